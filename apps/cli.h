@@ -1,0 +1,41 @@
+/* The lazytrace command-line tool: shared option parsing and the subcommands. */
+#ifndef LT_CLI_H
+#define LT_CLI_H
+
+#include <stdint.h>
+
+#include "lazytrace.h"
+
+typedef struct lt_cli {
+  const char *command;
+  const char *scene;  /* the positional SCENE */
+  const char *output; /* -o */
+  const char *rays, *hits, *stats;
+  int any;
+  int width, height;
+  int agents, rays_per_agent, frames;
+  uint64_t seed;
+  int build_given;
+  lt_structure_config structure;
+  lt_context_config context;
+} lt_cli;
+
+/* Parses argv[2..]; prints the problem and returns nonzero on a bad option or value. */
+int lt_cli_parse(lt_cli *cli, int argc, char **argv);
+/* Prints "lazytrace: <what>: <lt_last_error()>" and returns 1. */
+int lt_cli_fail(const char *what, lt_status status);
+/* The context, scene and structure every tracing command starts from; prints errors. */
+int lt_cli_open(lt_cli *cli, lt_context **ctx, lt_scene **scene, lt_stats *stats);
+/* Writes stats to cli->stats ("-" for stdout) if it was asked for. */
+int lt_cli_write_stats(const lt_cli *cli, const lt_stats *stats);
+
+int lt_cmd_render(lt_cli *cli);
+int lt_cmd_trace(lt_cli *cli);
+int lt_cmd_collide(lt_cli *cli);
+int lt_cmd_scene(lt_cli *cli);
+int lt_cmd_devices(lt_cli *cli);
+
+/* Writes an 8-bit RGB image as PNG; returns 0 on success. */
+int lt_write_png(const char *path, int width, int height, const unsigned char *rgb);
+
+#endif

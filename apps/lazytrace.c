@@ -1,0 +1,80 @@
+/* lazytrace: the command-line tool. Dispatches to the subcommands in apps/cmd_*.c. */
+#include <stdio.h>
+#include <string.h>
+
+#include "apps/cli.h"
+
+static const char usage[] =
+    "lazytrace: ray queries against triangle scenes, with acceleration structures built on demand\n"
+    "\n"
+    "usage:\n"
+    "  lazytrace render  SCENE [OPTIONS] [--size WxH] [-o IMAGE.png]\n"
+    "  lazytrace trace   SCENE --rays RAYS --hits HITS [--any] [OPTIONS]\n"
+    "  lazytrace collide SCENE [--agents 100] [--rays-per-agent 8] [--frames 20] [--seed S] [OPTIONS]\n"
+    "  lazytrace scene   SCENE -o FILE.obj\n"
+    "  lazytrace devices\n"
+    "  lazytrace help [COMMAND]\n"
+    "\n"
+    "SCENE    a generator (house, house-row:N, house-grid:RxC, hairball:N, teapot-stadium,\n"
+    "         sphere:LEVEL, cornell; add @outer or @close to pick the camera) or a mesh file\n"
+    "         (.obj read by lazytrace in file order; .ply, .gltf, .glb, ... through assimp)\n"
+    "\n"
+    "OPTIONS  --structure bvh               acceleration structure (kdtree, irgrid, grid, qbvh,\n"
+    "                                        lbvh are planned and refused for now)\n"
+    "         --build full|requested|speculative\n"
+    "                                        build mode; on-demand modes need the task pool, so\n"
+    "                                        the default is full until it lands\n"
+    "         --device auto|opencl[:N]|native\n"
+    "                                        auto: OpenCL if a device exists, else native\n"
+    "         --work-groups N  --local-size N  launch shape (default: what runs concurrently)\n"
+    "         --leaf-size N  --bins N          SAH BVH parameters (default 16 and 32)\n"
+    "         --stats FILE|-                 statistics as one JSON object\n"
+    "\n"
+    "Ray file: 32-byte little-endian records: float ox oy oz tmin dx dy dz tmax.\n"
+    "Hit file: 16-byte records: float t u v, int32 prim (-1 on a miss);\n"
+    "          hit point = (1-u-v)*v0 + u*v1 + v*v2.\n";
+
+static const char *const command_help[][2] = {
+    {"render", "lazytrace render SCENE [OPTIONS] [--size WxH] [-o IMAGE.png]\n"
+               "  Traces one primary ray per pixel from the scene's camera and writes a PNG shaded by\n"
+               "  the angle between the ray and the surface (default 1024x1024, render.png).\n"},
+    {"trace", "lazytrace trace SCENE --rays RAYS --hits HITS [--any] [OPTIONS]\n"
+              "  Answers every ray of RAYS (closest hit, or any hit with --any) and writes HITS,\n"
+              "  one record per ray in the same order.\n"},
+    {"collide", "lazytrace collide SCENE [--agents 100] [--rays-per-agent 8] [--frames 20] [--seed S]\n"
+                "  The on-demand paper's collision test: agents move along random paths; each frame\n"
+                "  rebuilds the structure and every agent shoots rays around it.\n"},
+    {"scene", "lazytrace scene SCENE -o FILE.obj\n"
+              "  Writes the scene's triangles as OBJ, in the order trace numbers them.\n"},
+    {"devices", "lazytrace devices\n  Lists the OpenCL devices found and the native backend.\n"},
+};
+
+int main(int argc, char **argv) {
+  if (argc < 2 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0) {
+    fputs(usage, argc < 2 ? stderr : stdout);
+    return argc < 2 ? 2 : 0;
+  }
+  int n_help = (int)(sizeof command_help / sizeof command_help[0]);
+  if (strcmp(argv[1], "help") == 0) {
+    for (int i = 0; argc > 2 && i < n_help; i++)
+      if (strcmp(argv[2], command_help[i][0]) == 0) return fputs(command_help[i][1], stdout), 0;
+    fputs(usage, stdout);
+    return 0;
+  }
+
+  /* "lazytrace COMMAND --help" prints that command's help. */
+  for (int i = 2; i < argc; i++)
+    if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0)
+      for (int c = 0; c < n_help; c++)
+        if (strcmp(argv[1], command_help[c][0]) == 0) return fputs(command_help[c][1], stdout), 0;
+
+  lt_cli cli;
+  if (lt_cli_parse(&cli, argc, argv) != 0) return 2;
+  if (strcmp(cli.command, "render") == 0) return lt_cmd_render(&cli);
+  if (strcmp(cli.command, "trace") == 0) return lt_cmd_trace(&cli);
+  if (strcmp(cli.command, "collide") == 0) return lt_cmd_collide(&cli);
+  if (strcmp(cli.command, "scene") == 0) return lt_cmd_scene(&cli);
+  if (strcmp(cli.command, "devices") == 0) return lt_cmd_devices(&cli);
+  fprintf(stderr, "lazytrace: unknown command '%s' (run 'lazytrace --help')\n", cli.command);
+  return 2;
+}

@@ -1,0 +1,206 @@
+/* lazytrace: batches of ray queries against triangle scenes, with acceleration structures
+ * built on demand (Vinkler et al. 2016) or in full. This is the one public header.
+ *
+ * Conventions: opaque handles come in _create/_destroy pairs; a NULL config means defaults;
+ * every call that can fail returns an lt_status, and lt_last_error() then holds a sentence
+ * that names what was wrong (file, line, option). */
+#ifndef LAZYTRACE_H
+#define LAZYTRACE_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Status codes: one list generates the enum, lt_status_str() and lt_status_name(). */
+#define LT_STATUS_LIST(X)                                                                   \
+  X(LT_OK, "success")                                                                       \
+  X(LT_ERROR_INVALID_ARGUMENT, "invalid argument")                                          \
+  X(LT_ERROR_OUT_OF_MEMORY, "out of host memory")                                           \
+  X(LT_ERROR_IO, "file could not be read or written")                                       \
+  X(LT_ERROR_PARSE, "malformed input file")                                                 \
+  X(LT_ERROR_UNKNOWN_GENERATOR, "unknown scene generator")                                  \
+  X(LT_ERROR_UNSUPPORTED, "capability not available yet")                                   \
+  X(LT_ERROR_NO_DEVICE, "no compute device found")                                          \
+  X(LT_ERROR_OPENCL, "OpenCL call failed")                                                  \
+  X(LT_ERROR_PROGRAM_BUILD, "kernel program failed to build")                               \
+  X(LT_ERROR_DEVICE_MEMORY, "device memory allocation failed")                              \
+  X(LT_ERROR_CAPACITY, "a fixed-size buffer is full; retry with a larger one")             \
+  X(LT_ERROR_SCHEDULER, "scheduler error: a wait exceeded its cap")                        \
+  X(LT_ERROR_EMPTY_SCENE, "scene has no valid triangles")
+
+typedef enum {
+#define LT_STATUS_ENUM(name, text) name,
+  LT_STATUS_LIST(LT_STATUS_ENUM)
+#undef LT_STATUS_ENUM
+      LT_STATUS_COUNT
+} lt_status;
+
+/* A short sentence for a status code ("invalid argument"). */
+const char *lt_status_str(lt_status status);
+/* The identifier of a status code ("LT_ERROR_INVALID_ARGUMENT"). */
+const char *lt_status_name(lt_status status);
+/* The detailed message of the last failing call on this thread, or "" if none. */
+const char *lt_last_error(void);
+
+/* ---- Rays and hits: the binary record formats of the ray and hit files. ---- */
+
+/* 32 bytes: origin, tmin, direction (need not be unit length), tmax; t in direction lengths. */
+typedef struct lt_ray {
+  float org[3]; /* 12 bytes */
+  float tmin;   /* 4 bytes */
+  float dir[3]; /* 12 bytes */
+  float tmax;   /* 4 bytes */
+} lt_ray;
+
+/* 16 bytes: hit point = (1-u-v)*v0 + u*v1 + v*v2 of triangle prim; prim = -1 on a miss. */
+typedef struct lt_hit {
+  float t;      /* 4 bytes */
+  float u;      /* 4 bytes */
+  float v;      /* 4 bytes */
+  int32_t prim; /* 4 bytes */
+} lt_hit;
+
+/* Reads a ray file; *rays is malloc'ed and owned by the caller. A size that is not a multiple
+ * of 32 bytes is LT_ERROR_PARSE. */
+lt_status lt_rays_read(const char *path, lt_ray **rays, size_t *count);
+lt_status lt_rays_write(const char *path, const lt_ray *rays, size_t count);
+lt_status lt_hits_read(const char *path, lt_hit **hits, size_t *count);
+lt_status lt_hits_write(const char *path, const lt_hit *hits, size_t count);
+
+/* ---- Devices and contexts ---- */
+
+typedef enum { LT_DEVICE_AUTO = 0, LT_DEVICE_OPENCL, LT_DEVICE_NATIVE } lt_device_kind;
+
+typedef struct lt_context_config {
+  lt_device_kind device; /* default AUTO: OpenCL if a device exists, else native (said on stderr) */
+  int opencl_index;      /* which OpenCL device, counted over all platforms; default 0 */
+  int work_groups;       /* 0: as many as run concurrently (compute units, or native threads) */
+  int local_size;        /* OpenCL work-group size; 0: backend default. Native is always 1. */
+  int quiet;             /* nonzero: no notes on stderr (fallback to native, ...) */
+} lt_context_config;
+
+typedef struct lt_context lt_context;
+
+lt_status lt_context_create(const lt_context_config *config, lt_context **out);
+void lt_context_destroy(lt_context *ctx);
+/* "opencl:0 (pthread-...)" or "native (2 threads)". */
+const char *lt_context_device_name(const lt_context *ctx);
+lt_device_kind lt_context_device_kind(const lt_context *ctx);
+/* Time spent compiling kernels in this context, in milliseconds (0 on native). */
+double lt_context_compile_ms(const lt_context *ctx);
+/* The OpenCL build log of the last program build, or "" if none. */
+const char *lt_context_build_log(const lt_context *ctx);
+/* Writes one line per device found (OpenCL devices and the native backend) to out. */
+lt_status lt_devices_print(FILE *out);
+
+/* ---- Scenes ---- */
+
+typedef struct lt_camera {
+  float eye[3];
+  float look[3];
+  float up[3];
+  float fov_deg; /* vertical field of view */
+} lt_camera;
+
+typedef struct lt_scene lt_scene;
+
+/* Loads a scene from a spec: a generator ("house-grid:3x3", "sphere:4"; an optional "@camera"
+ * suffix picks the camera) or a mesh file (.obj by lazytrace's own reader, other formats
+ * through assimp). Triangles with NaN or infinite coordinates are skipped and counted. */
+lt_status lt_scene_load(const char *spec, lt_scene **out);
+/* A scene from n triangles of 9 floats each (v0 v1 v2), copied. */
+lt_status lt_scene_from_triangles(const float *tris, size_t n, lt_scene **out);
+void lt_scene_destroy(lt_scene *scene);
+size_t lt_scene_triangle_count(const lt_scene *scene);
+/* 9 floats per triangle, in triangle-number order. */
+const float *lt_scene_triangles(const lt_scene *scene);
+/* Number of triangles dropped at load because a coordinate was NaN or infinite. */
+size_t lt_scene_skipped_triangles(const lt_scene *scene);
+/* The camera named in the spec, or the scene's first ("outer"), or one framing the bounds. */
+lt_camera lt_scene_camera(const lt_scene *scene);
+/* Looks up a camera by name; LT_ERROR_INVALID_ARGUMENT if the scene has none of that name. */
+lt_status lt_scene_named_camera(const lt_scene *scene, const char *name, lt_camera *out);
+void lt_scene_bounds(const lt_scene *scene, float lo[3], float hi[3]);
+/* Writes the triangles as OBJ, one face per triangle in number order. */
+lt_status lt_scene_write_obj(const lt_scene *scene, const char *path);
+/* A comma-separated list of the generators, for help text. */
+const char *lt_generator_names(void);
+
+/* Primary rays through pixel centres, row by row from the top; out holds width*height rays. */
+void lt_camera_primary_rays(const lt_camera *camera, int width, int height, lt_ray *out);
+
+/* ---- Statistics ---- */
+
+typedef struct lt_stats lt_stats;
+
+lt_status lt_stats_create(lt_stats **out);
+void lt_stats_destroy(lt_stats *stats);
+void lt_stats_reset(lt_stats *stats);
+/* A counter or time by its contract key ("trace_ms", "nodes_built", "pool.stalls", ...);
+ * returns -1 for a key that does not apply (written as null). */
+double lt_stats_get(const lt_stats *stats, const char *key);
+/* Sets a value the caller measured itself (load_ms, for example). */
+lt_status lt_stats_set(lt_stats *stats, const char *key, double value);
+/* Writes one JSON object with every key of the contract. */
+lt_status lt_stats_write_json(const lt_stats *stats, FILE *out);
+
+/* ---- Acceleration structures ---- */
+
+typedef enum {
+  LT_STRUCTURE_BVH = 0, /* binned SAH BVH */
+  LT_STRUCTURE_COUNT
+} lt_structure_kind;
+
+typedef enum { LT_BUILD_FULL = 0, LT_BUILD_REQUESTED, LT_BUILD_SPECULATIVE } lt_build_mode;
+
+typedef struct lt_structure_config {
+  lt_structure_kind kind; /* default BVH */
+  lt_build_mode build;    /* default FULL until on-demand building lands */
+  int max_leaf_size;      /* default 16 (the paper's leaf bound) */
+  int sah_bins;           /* default 32 (the paper's bin count) */
+  float traversal_cost;   /* SAH cost of one node visit relative to one intersection; default 1 */
+} lt_structure_config;
+
+/* Parses "bvh", "full", ...; LT_ERROR_INVALID_ARGUMENT for an unknown name and
+ * LT_ERROR_UNSUPPORTED for a known name whose capability does not exist yet. */
+lt_status lt_structure_kind_parse(const char *name, lt_structure_kind *out);
+lt_status lt_build_mode_parse(const char *name, lt_build_mode *out);
+const char *lt_structure_kind_name(lt_structure_kind kind);
+const char *lt_build_mode_name(lt_build_mode mode);
+
+typedef struct lt_structure lt_structure;
+
+/* Builds (or, on demand, prepares) a structure over the scene's triangles on ctx's device.
+ * Build time and node counts go to stats if it is not NULL. */
+lt_status lt_structure_create(lt_context *ctx, const lt_scene *scene,
+                              const lt_structure_config *config, lt_stats *stats,
+                              lt_structure **out);
+void lt_structure_destroy(lt_structure *structure);
+
+enum {
+  LT_QUERY_CLOSEST = 0, /* the closest hit; ties in t go to the lower triangle number */
+  LT_QUERY_ANY = 1      /* any hit in [tmin, tmax]: prim >= 0 means occluded */
+};
+
+/* Traces count rays; hits[i] answers rays[i]. Rays with a NaN or infinite component, a zero
+ * direction or tmin > tmax miss. Trace time and counters are added to stats if not NULL. */
+lt_status lt_structure_trace(lt_structure *structure, const lt_ray *rays, size_t count,
+                             int query, lt_hit *hits, lt_stats *stats);
+
+/* The brute-force reference: every ray against every triangle, in C on the host, with the
+ * same intersection test and tie rule as the structures. */
+lt_status lt_reference_trace(const lt_scene *scene, const lt_ray *rays, size_t count, int query,
+                             lt_hit *hits);
+
+/* Milliseconds on a monotonic clock, for callers timing their own phases. */
+double lt_now_ms(void);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,41 @@
+/* OpenCL C 1.2 side of the compat vocabulary (see compat.h). */
+#ifndef LT_COMPAT_OPENCL_H
+#define LT_COMPAT_OPENCL_H
+
+/* Both backends must produce bit-identical hits: no fused multiply-adds anywhere. */
+#pragma OPENCL FP_CONTRACT OFF
+
+#ifdef cl_khr_fp64
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+#define LT_HAVE_DOUBLE 1
+#endif
+
+#define LT_GLOBAL __global
+#define LT_LOCAL __local
+#define LT_CONSTANT __constant
+#define LT_DEVICE static inline
+#define LT_KERNEL __kernel
+
+typedef float4 lt_float4;
+typedef int4 lt_int4;
+typedef uint lt_u32;
+typedef int lt_i32;
+
+#define lt_global_id() ((int)get_global_id(0))
+#define lt_global_size() ((int)get_global_size(0))
+#define lt_local_id() ((int)get_local_id(0))
+#define lt_local_size() ((int)get_local_size(0))
+#define lt_group_id() ((int)get_group_id(0))
+#define lt_num_groups() ((int)get_num_groups(0))
+#define lt_barrier() barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE)
+#define lt_assert(x) ((void)0)
+
+#define lt_float_as_int(x) as_int(x)
+#define lt_int_as_float(x) as_float(x)
+#define lt_isfinite(x) isfinite(x)
+
+#define lt_atomic_add_u32(p, v) atomic_add((volatile LT_GLOBAL uint *)(p), (v))
+#define lt_atomic_cas_u32(p, expected, desired) \
+  atomic_cmpxchg((volatile LT_GLOBAL uint *)(p), (expected), (desired))
+
+#endif

@@ -1,0 +1,108 @@
+/* OpenCL backend: device discovery, the program built from the embedded sources, and the
+ * translation of every cl_int into an lt_status. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "runtime/context_internal.h"
+#include "runtime/error.h"
+
+/* Options that keep results bit-identical to the native backend: correctly rounded division
+ * and square root (FP_CONTRACT OFF is set in the source itself). */
+#define BUILD_OPTIONS "-cl-std=CL1.2 -cl-fp32-correctly-rounded-divide-sqrt -I."
+
+lt_status lt__opencl_check(cl_int err, const char *what) {
+  if (err == CL_SUCCESS) return LT_OK;
+  if (err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES || err == CL_INVALID_BUFFER_SIZE)
+    return lt__fail(LT_ERROR_DEVICE_MEMORY, "%s: device out of memory (OpenCL error %d)", what, err);
+  return lt__fail(LT_ERROR_OPENCL, "%s failed with OpenCL error %d", what, err);
+}
+
+/* Every device of every platform, in platform order; returns how many were written. */
+static int list_devices(cl_device_id *out, int max) {
+  cl_platform_id platforms[16];
+  cl_uint platform_count = 0;
+  if (clGetPlatformIDs(16, platforms, &platform_count) != CL_SUCCESS) return 0;
+  int n = 0;
+  for (cl_uint p = 0; p < platform_count && p < 16; p++) {
+    cl_uint count = 0;
+    if (clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, (cl_uint)(max - n), out + n, &count) != CL_SUCCESS)
+      continue;
+    n += (int)count;
+    if (n >= max) break;
+  }
+  return n;
+}
+
+int lt__opencl_device_count(void) {
+  cl_device_id devices[64];
+  return list_devices(devices, 64);
+}
+
+lt_status lt__opencl_open(lt_context *ctx, int index) {
+  cl_device_id devices[64];
+  int count = list_devices(devices, 64);
+  if (count == 0) return lt__fail(LT_ERROR_NO_DEVICE, "no OpenCL device found (is an ICD such as pocl-opencl-icd installed?)");
+  if (index < 0 || index >= count)
+    return lt__fail(LT_ERROR_NO_DEVICE, "no OpenCL device %d (found %d)", index, count);
+  ctx->device = devices[index];
+
+  char device_name[128] = "";
+  cl_uint units = 1;
+  clGetDeviceInfo(ctx->device, CL_DEVICE_NAME, sizeof device_name, device_name, NULL);
+  clGetDeviceInfo(ctx->device, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof units, &units, NULL);
+  snprintf(ctx->name, sizeof ctx->name, "opencl:%d (%s)", index, device_name);
+
+  /* Persistent kernels launch only as many work-groups as run at once (DESIGN.md). */
+  if (ctx->work_groups <= 0) ctx->work_groups = (int)units;
+  if (ctx->local_size <= 0) ctx->local_size = 64;
+
+  cl_int err;
+  ctx->cl = clCreateContext(NULL, 1, &ctx->device, NULL, NULL, &err);
+  if (err != CL_SUCCESS) return lt__opencl_check(err, "clCreateContext");
+  ctx->queue = clCreateCommandQueue(ctx->cl, ctx->device, 0, &err);
+  return lt__opencl_check(err, "clCreateCommandQueue");
+}
+
+/* Keeps the build log for lt_context_build_log(). */
+static void save_log(lt_context *ctx) {
+  size_t size = 0;
+  clGetProgramBuildInfo(ctx->program, ctx->device, CL_PROGRAM_BUILD_LOG, 0, NULL, &size);
+  free(ctx->build_log);
+  ctx->build_log = calloc(size + 1, 1);
+  if (ctx->build_log && size)
+    clGetProgramBuildInfo(ctx->program, ctx->device, CL_PROGRAM_BUILD_LOG, size, ctx->build_log, NULL);
+}
+
+lt_status lt__opencl_program(lt_context *ctx) {
+  if (ctx->program) return LT_OK;
+  double start = lt_now_ms();
+  uint64_t hash = 0;
+  char *source = lt__kernel_source("kernels/trace.cl", &hash);
+  if (!source) return lt__fail(LT_ERROR_PROGRAM_BUILD, "kernel sources are incomplete in this build");
+
+  /* The hash goes into the source as a comment, so any driver cache keyed on text sees changes
+   * to included files too. */
+  char header[64];
+  snprintf(header, sizeof header, "/* lazytrace kernel source %016llx */\n", (unsigned long long)hash);
+  const char *parts[2] = {header, source};
+  cl_int err;
+  ctx->program = clCreateProgramWithSource(ctx->cl, 2, parts, NULL, &err);
+  free(source);
+  if (err != CL_SUCCESS) return lt__opencl_check(err, "clCreateProgramWithSource");
+  err = clBuildProgram(ctx->program, 1, &ctx->device, BUILD_OPTIONS, NULL, NULL);
+  save_log(ctx);
+  if (err != CL_SUCCESS)
+    return lt__fail(LT_ERROR_PROGRAM_BUILD, "kernel build failed (OpenCL error %d):\n%s", err,
+                    ctx->build_log ? ctx->build_log : "");
+  ctx->trace_kernel = clCreateKernel(ctx->program, "lt_trace_bvh", &err);
+  ctx->compile_ms += lt_now_ms() - start;
+  return lt__opencl_check(err, "clCreateKernel(lt_trace_bvh)");
+}
+
+void lt__opencl_close(lt_context *ctx) {
+  if (ctx->trace_kernel) clReleaseKernel(ctx->trace_kernel);
+  if (ctx->program) clReleaseProgram(ctx->program);
+  if (ctx->queue) clReleaseCommandQueue(ctx->queue);
+  if (ctx->cl) clReleaseContext(ctx->cl);
+}

@@ -1,0 +1,68 @@
+/* The ray and hit files of the contract: little-endian records of 32 and 16 bytes. */
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "runtime/error.h"
+
+_Static_assert(sizeof(lt_ray) == 32, "a ray record is 32 bytes");
+_Static_assert(sizeof(lt_hit) == 16, "a hit record is 16 bytes");
+
+/* Reads a whole file of fixed-size records; a partial record is a parse error. */
+static lt_status read_records(const char *path, size_t record, void **out, size_t *count) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return lt__fail(LT_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+  if (fseek(f, 0, SEEK_END) != 0) {
+    fclose(f);
+    return lt__fail(LT_ERROR_IO, "%s: cannot seek: %s", path, strerror(errno));
+  }
+  long size = ftell(f);
+  rewind(f);
+  if (size < 0 || (size_t)size % record != 0) {
+    fclose(f);
+    return lt__fail(LT_ERROR_PARSE, "%s: %ld bytes is not a whole number of %zu-byte records (truncated?)", path,
+                    size, record);
+  }
+  void *data = malloc(size ? (size_t)size : 1);
+  if (!data) {
+    fclose(f);
+    return lt__fail(LT_ERROR_OUT_OF_MEMORY, "%s: out of memory for %ld bytes", path, size);
+  }
+  size_t got = fread(data, 1, (size_t)size, f);
+  fclose(f);
+  if (got != (size_t)size) {
+    free(data);
+    return lt__fail(LT_ERROR_IO, "%s: short read (%zu of %ld bytes)", path, got, size);
+  }
+  *out = data;
+  *count = (size_t)size / record;
+  return LT_OK;
+}
+
+static lt_status write_records(const char *path, const void *data, size_t record, size_t count) {
+  FILE *f = fopen(path, "wb");
+  if (!f) return lt__fail(LT_ERROR_IO, "%s: cannot open for writing: %s", path, strerror(errno));
+  size_t put = fwrite(data, record, count, f);
+  int failed = fclose(f) != 0 || put != count;
+  return failed ? lt__fail(LT_ERROR_IO, "%s: write failed", path) : LT_OK;
+}
+
+lt_status lt_rays_read(const char *path, lt_ray **rays, size_t *count) {
+  if (!path || !rays || !count) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_rays_read: NULL argument");
+  return read_records(path, sizeof(lt_ray), (void **)rays, count);
+}
+
+lt_status lt_rays_write(const char *path, const lt_ray *rays, size_t count) {
+  if (!path || (count && !rays)) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_rays_write: NULL argument");
+  return write_records(path, rays, sizeof(lt_ray), count);
+}
+
+lt_status lt_hits_read(const char *path, lt_hit **hits, size_t *count) {
+  if (!path || !hits || !count) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_hits_read: NULL argument");
+  return read_records(path, sizeof(lt_hit), (void **)hits, count);
+}
+
+lt_status lt_hits_write(const char *path, const lt_hit *hits, size_t count) {
+  if (!path || (count && !hits)) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_hits_write: NULL argument");
+  return write_records(path, hits, sizeof(lt_hit), count);
+}

@@ -1,0 +1,56 @@
+/* The statistics the library keeps, by contract key. A value below 0 means "does not apply"
+ * and is written as null. Keys starting with "pool." go into the nested "pool" object. */
+#ifndef LT_STATS_INTERNAL_H
+#define LT_STATS_INTERNAL_H
+
+#include "lazytrace.h"
+
+#define LT_STAT_LIST(X)                      \
+  X(LT_STAT_TRIANGLES, "triangles")          \
+  X(LT_STAT_RAYS, "rays")                    \
+  X(LT_STAT_LOAD_MS, "load_ms")              \
+  X(LT_STAT_COMPILE_MS, "compile_ms")        \
+  X(LT_STAT_BUILD_MS, "build_ms")            \
+  X(LT_STAT_TRACE_MS, "trace_ms")            \
+  X(LT_STAT_TOTAL_MS, "total_ms")            \
+  X(LT_STAT_NODES_BUILT, "nodes_built")      \
+  X(LT_STAT_NODES_FULL, "nodes_full")        \
+  X(LT_STAT_REFERENCES, "references")        \
+  X(LT_STAT_SORT_OPS, "sort_ops")            \
+  X(LT_STAT_TRAVERSAL_STEPS, "traversal_steps") \
+  X(LT_STAT_INTERSECTIONS, "intersections")  \
+  X(LT_STAT_MEMORY_BYTES, "memory_bytes")    \
+  X(LT_STAT_NODE_BYTES, "node_bytes")        \
+  X(LT_STAT_REFERENCE_BYTES, "reference_bytes") \
+  X(LT_STAT_POOL_BYTES, "pool_bytes")        \
+  X(LT_STAT_MAX_DEPTH, "max_depth")          \
+  X(LT_STAT_SAH_COST, "sah_cost")            \
+  X(LT_STAT_SKIPPED_TRIANGLES, "skipped_triangles") \
+  X(LT_STAT_POOL_TASKS, "pool.tasks")        \
+  X(LT_STAT_POOL_REQUESTED, "pool.requested") \
+  X(LT_STAT_POOL_SPECULATIVE, "pool.speculative") \
+  X(LT_STAT_POOL_STALLS, "pool.stalls")      \
+  X(LT_STAT_POOL_CACHE_HITS, "pool.cache_hits")
+
+typedef enum {
+#define LT_STAT_ENUM(id, key) id,
+  LT_STAT_LIST(LT_STAT_ENUM)
+#undef LT_STAT_ENUM
+      LT_STAT_COUNT
+} lt_stat_id;
+
+struct lt_stats {
+  char structure[64];
+  char build[64];
+  char device[192];
+  double value[LT_STAT_COUNT];
+};
+
+/* Adds to a counter (a "does not apply" counter starts from 0); no-op on a NULL stats. */
+void lt__stats_add(lt_stats *stats, lt_stat_id id, double value);
+/* Overwrites a value; no-op on a NULL stats. */
+void lt__stats_put(lt_stats *stats, lt_stat_id id, double value);
+/* Sets "structure", "build" or "device". */
+void lt__stats_text(lt_stats *stats, const char *key, const char *text);
+
+#endif

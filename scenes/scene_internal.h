@@ -1,0 +1,42 @@
+/* The scene as the library holds it: a flat triangle soup in triangle-number order plus named
+ * cameras. Generators and loaders append to it through the helpers below. */
+#ifndef LT_SCENE_INTERNAL_H
+#define LT_SCENE_INTERNAL_H
+
+#include "lazytrace.h"
+
+#define LT_SCENE_MAX_CAMERAS 8
+
+struct lt_scene {
+  float *tris;           /* 9 floats per triangle: v0 v1 v2 */
+  size_t count;          /* triangles */
+  size_t capacity;       /* triangles the tris buffer holds */
+  size_t skipped;        /* triangles dropped for NaN or infinite coordinates */
+  int camera_count;
+  int active_camera;     /* index into cameras, or -1 for "frame the bounds" */
+  char camera_names[LT_SCENE_MAX_CAMERAS][16];
+  lt_camera cameras[LT_SCENE_MAX_CAMERAS];
+};
+
+/* A new, empty scene; NULL when out of memory. */
+lt_scene *lt__scene_new(void);
+/* Appends one triangle; a triangle with a non-finite coordinate is counted as skipped. */
+lt_status lt__scene_add_tri(lt_scene *scene, const float a[3], const float b[3], const float c[3]);
+/* Appends a quad a b c d (counter-clockwise) as triangles (a b c) and (a c d). */
+lt_status lt__scene_add_quad(lt_scene *scene, const float a[3], const float b[3], const float c[3],
+                             const float d[3]);
+/* Adds a named camera (the first added is the default). */
+lt_status lt__scene_add_camera(lt_scene *scene, const char *name, lt_camera camera);
+
+/* Generators: name is the part of the spec before ':', args the part after it (or NULL).
+ * Appends the generator's triangles and its "outer" and "close" cameras to scene.
+ * LT_ERROR_UNKNOWN_GENERATOR for an unknown name, LT_ERROR_INVALID_ARGUMENT for bad args. */
+lt_status lt__generate(const char *name, const char *args, lt_scene *scene);
+
+/* Mesh readers. The OBJ reader is lazytrace's own, so triangle numbering follows the contract
+ * (faces in file order, polygons fanned as (v0, vi, vi+1)) and errors name the line. */
+lt_status lt__load_obj(const char *path, lt_scene *scene);
+/* Other formats through assimp. */
+lt_status lt__load_assimp(const char *path, lt_scene *scene);
+
+#endif

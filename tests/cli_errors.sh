@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# Bad input to the command-line tool: each case must fail with a clear message and a non-zero
+# exit, never crash or hang; NaN vertices are skipped and said; no OpenCL falls back to native.
+set -u
+LT=${1:?usage: cli_errors.sh path/to/lazytrace}
+T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
+failures=0; passes=0
+pass() { passes=$((passes + 1)); echo "ok    $*"; }
+fail() { failures=$((failures + 1)); echo "FAIL  $*"; }
+
+# expect_error NAME PATTERN ARGS...: non-zero exit below 128 (no crash), stderr matches PATTERN.
+expect_error() {
+  local name=$1 pattern=$2; shift 2
+  timeout 60 "$LT" "$@" >"$T/out" 2>"$T/err"; local rc=$?
+  if [ $rc -eq 0 ]; then fail "$name: accepted"; return; fi
+  if [ $rc -ge 124 ]; then fail "$name: exit $rc (crash or hang)"; return; fi
+  if grep -qE "$pattern" "$T/err"; then pass "$name"; else fail "$name: message lacks /$pattern/: $(head -c 300 "$T/err")"; fi
+}
+
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 oops\n' >"$T/bad.obj"
+printf 'v 0 0 0\nv 1 0\n' >"$T/short.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv nan 0 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 2 5\n' >"$T/nan.obj"
+printf 'v 0 0 0\nv inf 0 0\nv 0 1 0\nf 1 2 3\n' >"$T/allinf.obj"
+head -c 100 /dev/zero >"$T/trunc.rays"
+python3 -c "import struct,sys; open(sys.argv[1],'wb').write(struct.pack('8f',0.2,0.2,-1,0,0,0,1,1e30))" "$T/one.rays"
+
+expect_error "missing scene file" "no-such\.obj.*cannot open" scene "$T/no-such.obj" -o "$T/x.obj"
+expect_error "malformed OBJ names file and line" "bad\.obj:5:" scene "$T/bad.obj" -o "$T/x.obj"
+expect_error "vertex with two coordinates" "short\.obj:2:" scene "$T/short.obj" -o "$T/x.obj"
+expect_error "scene of only infinite vertices" "no valid triangles" trace "$T/allinf.obj" --rays "$T/one.rays" --hits "$T/x.hits"
+expect_error "truncated ray file" "trunc\.rays.*not a whole number" trace sphere:2 --rays "$T/trunc.rays" --hits "$T/x.hits"
+expect_error "missing ray file" "cannot open" trace sphere:2 --rays "$T/none.rays" --hits "$T/x.hits"
+expect_error "trace without --hits" "required" trace sphere:2 --rays "$T/one.rays"
+expect_error "unknown generator" "unknown generator 'pyramid'" scene pyramid:3 -o "$T/x.obj"
+expect_error "bad generator argument" "sphere" scene sphere:x -o "$T/x.obj"
+expect_error "unknown camera" "no camera named 'side'" render sphere:2@side --size 8x8 -o "$T/x.png"
+expect_error "unknown option" "unknown option '--fast'" render sphere:2 --fast 1
+expect_error "option without value" "needs a value" render sphere:2 --size
+expect_error "bad size" "WIDTHxHEIGHT" render sphere:2 --size 10by10
+expect_error "unknown structure" "unknown structure 'octree'" render sphere:2 --structure octree
+expect_error "planned structure refused" "not implemented yet" render sphere:2 --structure kdtree
+expect_error "on-demand build refused until the pool exists" "task pool" render sphere:2 --build requested --size 8x8 -o "$T/x.png"
+expect_error "unknown device" "expected auto, native" render sphere:2 --device gpu
+expect_error "unwritable output" "could not write" render sphere:2 --size 8x8 -o /nonexistent/dir/x.png
+expect_error "unknown command" "unknown command" frobnicate
+
+# NaN and infinite vertices: the triangles are skipped, and the count is said.
+if "$LT" trace "$T/nan.obj" --rays "$T/one.rays" --hits "$T/nan.hits" --stats "$T/nan.json" 2>"$T/err" >/dev/null &&
+   grep -q "1 skipped" "$T/err" && grep -q '"skipped_triangles": 1' "$T/nan.json" && grep -q '"triangles": 2' "$T/nan.json"; then
+  pass "NaN vertex: triangle skipped and counted"
+else
+  fail "NaN vertex: $(head -c 300 "$T/err")"
+fi
+
+# No OpenCL platform at all: auto falls back to native and says so; explicit opencl fails.
+if OCL_ICD_VENDORS=$T/none "$LT" trace sphere:2 --rays "$T/one.rays" --hits "$T/fb.hits" --stats "$T/fb.json" 2>"$T/err" >/dev/null &&
+   grep -q "using the native backend" "$T/err" && grep -q '"device": "native' "$T/fb.json"; then
+  pass "no OpenCL device: auto falls back to native and says so"
+else
+  fail "no OpenCL device fallback: $(head -c 300 "$T/err")"
+fi
+OCL_ICD_VENDORS=$T/none expect_error "no OpenCL device: --device opencl fails" "no OpenCL device" trace sphere:2 --rays "$T/one.rays" --hits "$T/x.hits" --device opencl
+
+# Help on every command.
+for c in render trace collide scene devices; do
+  "$LT" help $c | grep -q "lazytrace $c" && "$LT" $c --help | grep -q "lazytrace $c" && pass "help $c" || fail "help $c"
+done
+
+echo "$passes passed, $failures failed"
+[ $failures -eq 0 ]

@@ -1,0 +1,23 @@
+/* Helpers shared by the tests: deterministic random rays and hit comparisons. */
+#ifndef LT_TEST_SUPPORT_H
+#define LT_TEST_SUPPORT_H
+
+#include <stdint.h>
+
+#include "lazytrace.h"
+
+/* A deterministic generator (splitmix64) so that every failure reproduces from its seed. */
+uint64_t lt_test_next(uint64_t *state);
+float lt_test_uniform(uint64_t *state);
+
+/* n rays between random points of the scene's bounds grown by 10%: many start inside. */
+void lt_test_random_rays(const lt_scene *scene, uint64_t seed, size_t n, lt_ray *out);
+/* Camera rays of the scene's named camera, width x height. */
+void lt_test_camera_rays(const lt_scene *scene, const char *camera, int width, int height, lt_ray *out);
+
+/* Number of rays whose closest hits differ in prim or t (bitwise); prints the first few. */
+size_t lt_test_count_mismatches(const char *what, const lt_hit *a, const lt_hit *b, size_t n);
+/* Number of rays on which a and b disagree about being occluded. */
+size_t lt_test_count_occlusion_mismatches(const lt_hit *a, const lt_hit *b, size_t n);
+
+#endif
