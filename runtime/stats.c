@@ -77,7 +77,8 @@ static void write_string(FILE *out, const char *s) {
 static void write_number(FILE *out, double v, int is_time) {
   if (v < 0 || !isfinite(v)) fputs("null", out);
   else if (is_time) fprintf(out, "%.3f", v);
-  else fprintf(out, "%.0f", v);
+  else if (v == floor(v)) fprintf(out, "%.0f", v);
+  else fprintf(out, "%.6g", v);
 }
 
 lt_status lt_stats_write_json(const lt_stats *stats, FILE *out) {

@@ -210,8 +210,8 @@ static void transport_normal(const float t[3], float n[3]) {
 }
 
 /* The cross section of the tube at path point i, in the frame (n, t x n). */
-static void ring_at(const float p[3], const float t[3], const float n[3], float radius, int sides,
-                    const float *cs, const float *sn, float (*ring)[3]) {
+static void ring_at(const float p[3], const float t[3], const float n[3], float radius, int sides, const float *cs,
+                    const float *sn, float (*ring)[3]) {
   float b[3];
   cross(t, n, b);
   for (int j = 0; j < sides; j++)
@@ -237,8 +237,8 @@ void lt__gen_tube(lt__gen *gen, const float (*path)[3], int points, float radius
 
   /* Walk the path, keeping the previous cross section to join to the next one. */
   for (int i = 0; i < points; i++) {
-    float (*ring)[3] = rings[i & 1];
-    const float (*prev)[3] = (const float(*)[3])rings[(i + 1) & 1];
+    float(*ring)[3] = rings[i & 1];
+    const float(*prev)[3] = (const float(*)[3])rings[(i + 1) & 1];
     tangent_at(path, points, i, t);
     transport_normal(t, n);
     ring_at(path[i], t, n, radius, sides, cs, sn, ring);

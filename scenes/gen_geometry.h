@@ -11,9 +11,9 @@
 /* Every generator stays below this many triangles, so that a scene fits in a few GiB. */
 #define LT_GEN_MAX_TRIANGLES 50000000.0
 /* The most segments around a surface of revolution, and the most points on its profile. */
-#define LT_GEN_MAX_SLICES 2048
+#define LT_GEN_MAX_SLICES  2048
 #define LT_GEN_MAX_PROFILE 256
-#define LT_GEN_PI 3.14159265358979323846
+#define LT_GEN_PI          3.14159265358979323846
 
 /* splitmix64: the same seed gives the same stream on every machine, which rand() does not. */
 typedef struct lt__rng {

@@ -7,15 +7,15 @@
 #include "../runtime/error.h"
 #include "gen_geometry.h"
 
-#define HALF_X 5.0f
-#define HALF_Z 4.0f
-#define OUTER_T 0.25f /* outer wall thickness */
-#define INNER_T 0.12f /* interior wall thickness */
-#define STOREY 3.0f   /* floor to floor */
-#define SLAB 0.2f     /* floor thickness between storeys */
-#define STOREYS 2
-#define WALL_TOP (STOREYS * STOREY)
-#define SPACING 14.0f /* between neighbouring houses, in x and in z */
+#define HALF_X    5.0f
+#define HALF_Z    4.0f
+#define OUTER_T   0.25f /* outer wall thickness */
+#define INNER_T   0.12f /* interior wall thickness */
+#define STOREY    3.0f  /* floor to floor */
+#define SLAB      0.2f  /* floor thickness between storeys */
+#define STOREYS   2
+#define WALL_TOP  (STOREYS * STOREY)
+#define SPACING   14.0f /* between neighbouring houses, in x and in z */
 #define MAX_HOLES 8
 
 typedef struct opening {
@@ -51,8 +51,7 @@ static void wall_column(lt__gen *g, float xa, float xb, float height, float thic
  * at z = 0 to its inner face at z = thickness, with rectangular holes through it. The faces are
  * cut into columns at every hole edge, so that the quads meet the holes exactly. The ends and
  * the bottom are left out because they always abut other walls or a floor. */
-static void wall(lt__gen *g, float length, float height, float thickness, const opening *holes, int count,
-                 int top) {
+static void wall(lt__gen *g, float length, float height, float thickness, const opening *holes, int count, int top) {
   float xs[2 * MAX_HOLES + 2] = {0.0f, length};
   int n = 2;
   for (int i = 0; i < count; i++) {
@@ -87,15 +86,14 @@ static void placed_wall(lt__gen *g, float x, float y, float z, float degrees, fl
 /* The outer walls run through both storeys; each is placed so that its inner face looks into
  * the house. Hole positions are along the wall from its placed origin. */
 static void outer_walls(lt__gen *g) {
-  static const opening front[] = {{6.0f, 7.0f, 0.0f, 2.2f},   {1.5f, 3.0f, 0.9f, 2.2f},
-                                  {8.0f, 9.2f, 0.9f, 2.2f},   {1.5f, 3.0f, 3.9f, 5.2f},
-                                  {5.5f, 7.0f, 3.9f, 5.2f},   {8.0f, 9.2f, 3.9f, 5.2f}};
-  static const opening back[] = {{1.6f, 2.5f, 0.0f, 2.2f},  {4.0f, 5.4f, 0.9f, 2.2f}, {7.0f, 8.4f, 0.9f, 2.2f},
-                                 {1.2f, 2.6f, 3.9f, 5.2f},  {4.0f, 5.4f, 3.9f, 5.2f}, {7.0f, 8.4f, 3.9f, 5.2f}};
-  static const opening right[] = {{1.2f, 2.8f, 0.9f, 2.2f}, {5.2f, 6.6f, 0.9f, 2.2f},
-                                  {1.2f, 2.8f, 3.9f, 5.2f}, {5.2f, 6.6f, 3.9f, 5.2f}};
-  static const opening left[] = {{1.0f, 2.4f, 0.9f, 2.2f}, {4.6f, 6.2f, 0.9f, 2.2f},
-                                 {1.0f, 2.4f, 3.9f, 5.2f}, {4.6f, 6.2f, 3.9f, 5.2f}};
+  static const opening front[] = {{6.0f, 7.0f, 0.0f, 2.2f}, {1.5f, 3.0f, 0.9f, 2.2f}, {8.0f, 9.2f, 0.9f, 2.2f},
+                                  {1.5f, 3.0f, 3.9f, 5.2f}, {5.5f, 7.0f, 3.9f, 5.2f}, {8.0f, 9.2f, 3.9f, 5.2f}};
+  static const opening back[] = {{1.6f, 2.5f, 0.0f, 2.2f}, {4.0f, 5.4f, 0.9f, 2.2f}, {7.0f, 8.4f, 0.9f, 2.2f},
+                                 {1.2f, 2.6f, 3.9f, 5.2f}, {4.0f, 5.4f, 3.9f, 5.2f}, {7.0f, 8.4f, 3.9f, 5.2f}};
+  static const opening right[] = {
+      {1.2f, 2.8f, 0.9f, 2.2f}, {5.2f, 6.6f, 0.9f, 2.2f}, {1.2f, 2.8f, 3.9f, 5.2f}, {5.2f, 6.6f, 3.9f, 5.2f}};
+  static const opening left[] = {
+      {1.0f, 2.4f, 0.9f, 2.2f}, {4.6f, 6.2f, 0.9f, 2.2f}, {1.0f, 2.4f, 3.9f, 5.2f}, {4.6f, 6.2f, 3.9f, 5.2f}};
   float side = 2.0f * (HALF_Z - OUTER_T);
   placed_wall(g, -HALF_X, 0.0f, -HALF_Z, 0.0f, 2.0f * HALF_X, WALL_TOP, OUTER_T, front, 6, 1);
   placed_wall(g, HALF_X, 0.0f, HALF_Z, 180.0f, 2.0f * HALF_X, WALL_TOP, OUTER_T, back, 6, 1);
@@ -179,8 +177,9 @@ static void vase(lt__gen *g, lt__rng *rng) {
   int n = 0;
   profile[n][0] = 0.0f, profile[n++][1] = 0.0f;
   for (int i = 0; i <= STEPS; i++) {
-    float t = (float)i / STEPS;
-    profile[n][0] = r * (0.6f + bulge * sinf(3.0f * t) * (1.0f - 0.5f * t)), profile[n++][1] = h * t;
+    float t = (float)i / STEPS, c, s;
+    lt__sincos(3.0 * t, &c, &s);
+    profile[n][0] = r * (0.6f + bulge * s * (1.0f - 0.5f * t)), profile[n++][1] = h * t;
   }
   for (int i = STEPS; i >= 1; i--) profile[n][0] = profile[i + 1][0] - wall_t, profile[n++][1] = profile[i + 1][1];
   profile[n][0] = 0.0f, profile[n][1] = profile[n - 1][1], n++;
@@ -190,15 +189,16 @@ static void vase(lt__gen *g, lt__rng *rng) {
 /* A bowl of fruit: a hemispherical shell with five small spheres in it. */
 static void fruit_bowl(lt__gen *g) {
   enum { STEPS = 6 };
-  float profile[2 * STEPS + 4][2], R = 0.12f;
+  float profile[2 * STEPS + 2][2], R = 0.12f;
   int n = 0;
   profile[n][0] = 0.0f, profile[n++][1] = 0.0f;
-  for (int i = 0; i <= STEPS; i++) {
+  for (int i = 1; i <= STEPS; i++) {
     float c, s;
     lt__sincos(0.5 * LT_GEN_PI * ((double)i / STEPS - 1.0), &c, &s);
     profile[n][0] = R * c, profile[n++][1] = R + R * s;
   }
-  for (int i = STEPS; i >= 1; i--) profile[n][0] = profile[i + 1][0] * 0.92f, profile[n++][1] = profile[i + 1][1] * 0.92f + 0.01f;
+  for (int i = STEPS; i >= 1; i--)
+    profile[n][0] = profile[i][0] * 0.92f, profile[n++][1] = profile[i][1] * 0.92f + 0.01f;
   profile[n][0] = 0.0f, profile[n][1] = profile[n - 1][1], n++;
   lt__gen_lathe(g, (const float(*)[2])profile, n, 32);
   lt__gen_uv_sphere(g, 0.0f, 0.05f, 0.0f, 0.035f, 10, 14);
@@ -223,11 +223,16 @@ static void dining(lt__gen *g, lt__rng *rng) {
     chair(g);
     g->xf = saved;
   }
-  lt__xform saved = lt__gen_push(g, lt__xform_place(lt__rng_range(rng, -0.45f, -0.2f), 0.77f,
-                                                     lt__rng_range(rng, -0.15f, 0.15f), 0.0f));
+
+  /* Random numbers are drawn one statement at a time: the order in which a call's arguments
+   * are evaluated differs between compilers, and so would the scene. */
+  float x = lt__rng_range(rng, -0.45f, -0.2f), z = lt__rng_range(rng, -0.15f, 0.15f);
+  lt__xform saved = lt__gen_push(g, lt__xform_place(x, 0.77f, z, 0.0f));
   vase(g, rng);
   g->xf = saved;
-  lt__gen_push(g, lt__xform_place(lt__rng_range(rng, 0.2f, 0.45f), 0.77f, lt__rng_range(rng, -0.15f, 0.15f), 0.0f));
+  x = lt__rng_range(rng, 0.2f, 0.45f);
+  z = lt__rng_range(rng, -0.15f, 0.15f);
+  lt__gen_push(g, lt__xform_place(x, 0.77f, z, 0.0f));
   fruit_bowl(g);
   g->xf = saved;
 }
@@ -248,9 +253,11 @@ static void potted_plant(lt__gen *g, lt__rng *rng) {
   lt__xform saved = lt__gen_push(g, lt__xform_place(0.0f, 0.35f, 0.0f, 0.0f));
   lt__gen_torus(g, 0.195f, 0.02f, 48, 12);
   g->xf = saved;
-  for (int i = 0; i < 4; i++)
-    lt__gen_uv_sphere(g, lt__rng_range(rng, -0.1f, 0.1f), lt__rng_range(rng, 0.5f, 0.8f),
-                      lt__rng_range(rng, -0.1f, 0.1f), lt__rng_range(rng, 0.15f, 0.22f), 14, 20);
+  for (int i = 0; i < 4; i++) {
+    float x = lt__rng_range(rng, -0.1f, 0.1f), y = lt__rng_range(rng, 0.5f, 0.8f);
+    float z = lt__rng_range(rng, -0.1f, 0.1f), r = lt__rng_range(rng, 0.15f, 0.22f);
+    lt__gen_uv_sphere(g, x, y, z, r, 14, 20);
+  }
 }
 
 /* A low cabinet against a wall with books, a torus sculpture and a globe on a stand on top. */
@@ -262,11 +269,13 @@ static void cabinet(lt__gen *g, lt__rng *rng) {
     lt__gen_box(g, -0.1f, 0.9f, z, 0.1f, 0.9f + h, z + w);
     z += w + 0.002f;
   }
-  lt__xform saved = lt__gen_push(g, lt__xform_place(0.0f, 0.95f, 0.05f, 0.0f));
+  lt__xform saved = lt__gen_push(g, lt__xform_place(0.0f, 0.93f, 0.15f, 0.0f));
   lt__gen_torus(g, 0.09f, 0.03f, 64, 16);
   g->xf = saved;
+  lt__gen_push(g, lt__xform_place(0.0f, 0.0f, 0.4f, 0.0f));
   lt__gen_cylinder(g, 0.01f, 0.9f, 1.1f, 12);
-  lt__gen_uv_sphere(g, 0.0f, 1.2f, 0.4f, 0.1f, 24, 32);
+  lt__gen_uv_sphere(g, 0.0f, 1.2f, 0.0f, 0.1f, 24, 32);
+  g->xf = saved;
 }
 
 /* Furnishes the room x0..x1 by z0..z1 on the floor at height y; the layout is turned half round
@@ -306,7 +315,7 @@ static void house(lt__gen *g, uint64_t seed) {
 lt_status lt__gen_houses(lt_scene *scene, int rows, int columns, int style) {
   lt__gen g;
   lt__gen_init(&g, scene);
-  float mid = 0.5f * (columns - 1) * SPACING, door_x = 1.5f;
+  float left = -0.5f * (columns - 1) * SPACING, door_x = 1.5f;
   int middle = (columns - 1) / 2;
 
   /* The outer camera comes first, so that it is the default. A row is seen level along +z, so
@@ -317,17 +326,17 @@ lt_status lt__gen_houses(lt_scene *scene, int rows, int columns, int style) {
     lt__gen_camera(&g, "outer", eye, look, 50.0f);
   } else {
     float dist = fmaxf(20.0f, (0.5f * SPACING * columns) / tanf(25.0f * (float)LT_GEN_PI / 180.0f));
-    const float eye[3] = {mid, 4.0f + 0.25f * dist, -HALF_Z - dist}, look[3] = {mid, 2.0f, HALF_Z};
+    const float eye[3] = {0.0f, 4.0f + 0.25f * dist, -HALF_Z - dist}, look[3] = {0.0f, 2.0f, HALF_Z};
     lt__gen_camera(&g, "outer", eye, look, 50.0f);
   }
-  const float close_eye[3] = {middle * SPACING + door_x, 1.6f, -3.4f};
-  const float close_look[3] = {middle * SPACING - 0.5f, 1.1f, 2.5f};
+  const float close_eye[3] = {left + middle * SPACING + door_x, 1.6f, -3.4f};
+  const float close_look[3] = {left + middle * SPACING - 0.5f, 1.1f, 2.5f};
   lt__gen_camera(&g, "close", close_eye, close_look, 70.0f);
 
   /* Houses row by row from the front, so that triangle numbers grow away from the camera. */
   for (int r = 0; r < rows; r++)
     for (int c = 0; c < columns; c++) {
-      lt__xform saved = lt__gen_push(&g, lt__xform_place(c * SPACING, 0.0f, r * SPACING, 0.0f));
+      lt__xform saved = lt__gen_push(&g, lt__xform_place(left + c * SPACING, 0.0f, r * SPACING, 0.0f));
       house(&g, (uint64_t)r * (uint64_t)columns + (uint64_t)c);
       g.xf = saved;
     }
