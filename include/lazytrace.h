@@ -196,6 +196,39 @@ lt_status lt_structure_trace(lt_structure *structure, const lt_ray *rays, size_t
 lt_status lt_reference_trace(const lt_scene *scene, const lt_ray *rays, size_t count, int query,
                              lt_hit *hits);
 
+/* ---- The task pool and its own workload ---- */
+
+/* Capacities of the task pool (Vinkler et al. 2016, sections 3.2 and 4). */
+typedef struct lt_pool_config {
+  int capacity;            /* task slots; default 65536. A full pool is LT_ERROR_CAPACITY. */
+  int empty_cache_size;    /* ring of recently emptied slots; default 1024 */
+  int priority_cache_size; /* ring of slots unlocked by requests; default 1024 */
+  int max_idle_polls;      /* searches with no progress anywhere before LT_ERROR_SCHEDULER;
+                              default 4,000,000 */
+  int order_log_size;      /* entries of the log of task starts (for tests); default 0 */
+} lt_pool_config;
+
+/* A quicksort built on demand through the task pool: the scheduler's test workload. Each task
+ * partitions one node of the sort tree (phases: pivot, count, scatter, copy back) and spawns
+ * two children; queries ask for the key at a sorted position and walk the tree like rays,
+ * requesting the nodes they reach. The pool and the partial sort persist across queries. */
+typedef struct lt_lazy_sort lt_lazy_sort;
+
+lt_status lt_lazy_sort_create(lt_context *ctx, const uint32_t *keys, size_t count, lt_build_mode mode,
+                              const lt_pool_config *config, lt_lazy_sort **out);
+void lt_lazy_sort_destroy(lt_lazy_sort *sort);
+/* One launch of the persistent kernel: answers[i] = the key at sorted position positions[i].
+ * With count 0 in a full build, runs until the whole array is sorted. Pool counters go to
+ * stats ("pool.tasks", ...) if not NULL. */
+lt_status lt_lazy_sort_query(lt_lazy_sort *sort, const int32_t *positions, size_t count, uint32_t *answers,
+                             lt_stats *stats);
+/* The keys as they stand (sorted where the sort got to). */
+lt_status lt_lazy_sort_keys(lt_lazy_sort *sort, uint32_t *out);
+/* The node ids in the order their tasks were first taken, up to order_log_size. */
+lt_status lt_lazy_sort_order(lt_lazy_sort *sort, int32_t *out, size_t capacity, size_t *count);
+/* Nodes built so far (partitioned nodes plus sorted leaves) and tasks still in the pool. */
+lt_status lt_lazy_sort_progress(lt_lazy_sort *sort, size_t *nodes_built, size_t *tasks_left);
+
 /* Milliseconds on a monotonic clock, for callers timing their own phases. */
 double lt_now_ms(void);
 

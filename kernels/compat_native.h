@@ -26,6 +26,8 @@ typedef struct lt_int4 {
   int32_t y, z, w;
 } lt_int4;
 typedef uint32_t lt_u32;
+#define lt_make_int4(a, b, c, d) ((lt_int4){(a), (b), (c), (d)})
+#define lt_make_float4(a, b, c, d) ((lt_float4){(a), (b), (c), (d)})
 typedef int32_t lt_i32;
 
 /* The native backend runs one thread per work-group; the runtime sets these per thread. */
@@ -58,5 +60,30 @@ static inline lt_u32 lt__atomic_cas_u32(lt_u32 *p, lt_u32 expected, lt_u32 desir
   return expected;
 }
 #define lt_atomic_cas_u32(p, expected, desired) lt__atomic_cas_u32((lt_u32 *)(p), (expected), (desired))
+
+static inline lt_i32 lt__atomic_cas_i32(lt_i32 *p, lt_i32 expected, lt_i32 desired) {
+  __atomic_compare_exchange_n(p, &expected, desired, 0, __ATOMIC_SEQ_CST, __ATOMIC_SEQ_CST);
+  return expected;
+}
+#define lt_atomic_add_i32(p, v) __atomic_fetch_add((lt_i32 *)(p), (v), __ATOMIC_SEQ_CST)
+#define lt_atomic_cas_i32(p, expected, desired) lt__atomic_cas_i32((lt_i32 *)(p), (expected), (desired))
+#define lt_atomic_load_i32(p) __atomic_load_n((lt_i32 *)(p), __ATOMIC_SEQ_CST)
+#define lt_atomic_store_i32(p, v) __atomic_store_n((lt_i32 *)(p), (v), __ATOMIC_SEQ_CST)
+/* GCC 12 has no __atomic_fetch_min: a compare-and-swap loop, returning the old value. */
+static inline lt_i32 lt__atomic_min_i32(lt_i32 *p, lt_i32 v) {
+  lt_i32 old = __atomic_load_n(p, __ATOMIC_SEQ_CST);
+  while (v < old && !__atomic_compare_exchange_n(p, &old, v, 0, __ATOMIC_SEQ_CST, __ATOMIC_SEQ_CST)) {
+  }
+  return old;
+}
+static inline lt_i32 lt__atomic_max_i32(lt_i32 *p, lt_i32 v) {
+  lt_i32 old = __atomic_load_n(p, __ATOMIC_SEQ_CST);
+  while (v > old && !__atomic_compare_exchange_n(p, &old, v, 0, __ATOMIC_SEQ_CST, __ATOMIC_SEQ_CST)) {
+  }
+  return old;
+}
+#define lt_atomic_min_i32(p, v) lt__atomic_min_i32((lt_i32 *)(p), (v))
+#define lt_atomic_max_i32(p, v) lt__atomic_max_i32((lt_i32 *)(p), (v))
+#define lt_fence() __atomic_thread_fence(__ATOMIC_SEQ_CST)
 
 #endif

@@ -21,6 +21,9 @@ typedef int4 lt_int4;
 typedef uint lt_u32;
 typedef int lt_i32;
 
+#define lt_make_int4(a, b, c, d) ((int4)((a), (b), (c), (d)))
+#define lt_make_float4(a, b, c, d) ((float4)((a), (b), (c), (d)))
+
 #define lt_global_id() ((int)get_global_id(0))
 #define lt_global_size() ((int)get_global_size(0))
 #define lt_local_id() ((int)get_local_id(0))
@@ -37,5 +40,17 @@ typedef int lt_i32;
 #define lt_atomic_add_u32(p, v) atomic_add((volatile LT_GLOBAL uint *)(p), (v))
 #define lt_atomic_cas_u32(p, expected, desired) \
   atomic_cmpxchg((volatile LT_GLOBAL uint *)(p), (expected), (desired))
+
+/* Signed 32-bit atomics on global memory. A load is a volatile read, so that a polling loop
+ * cannot be hoisted; a store is an exchange, so that it is one indivisible write; both sit
+ * behind a fence where they publish or consume data (see lt_fence). */
+#define lt_atomic_add_i32(p, v) atomic_add((volatile LT_GLOBAL int *)(p), (v))
+#define lt_atomic_cas_i32(p, expected, desired) \
+  atomic_cmpxchg((volatile LT_GLOBAL int *)(p), (expected), (desired))
+#define lt_atomic_load_i32(p) (*(volatile LT_GLOBAL int *)(p))
+#define lt_atomic_store_i32(p, v) ((void)atomic_xchg((volatile LT_GLOBAL int *)(p), (v)))
+#define lt_atomic_min_i32(p, v) atomic_min((volatile LT_GLOBAL int *)(p), (v))
+#define lt_atomic_max_i32(p, v) atomic_max((volatile LT_GLOBAL int *)(p), (v))
+#define lt_fence() mem_fence(CLK_GLOBAL_MEM_FENCE)
 
 #endif

@@ -1,6 +1,6 @@
 /* The trace kernel compiled as C for the native backend: each work-group (one thread) takes
  * chunks of rays from a shared counter until none are left. */
-#include "kernels/native_trace.h"
+#include "kernels/native_kernels.h"
 
 #include "kernels/trace_body.h"
 

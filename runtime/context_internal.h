@@ -21,6 +21,7 @@ struct lt_context {
   cl_command_queue queue;
   cl_program program;
   cl_kernel trace_kernel;
+  cl_kernel sort_kernel;
 };
 
 /* OpenCL backend (runtime/opencl.c). */

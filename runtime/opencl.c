@@ -95,7 +95,7 @@ lt_status lt__opencl_program(lt_context *ctx) {
   if (ctx->program) return LT_OK;
   double start = lt_now_ms();
   uint64_t hash = 0;
-  char *source = lt__kernel_source("kernels/trace.cl", &hash);
+  char *source = lt__kernel_source("kernels/program.cl", &hash);
   if (!source) return lt__fail(LT_ERROR_PROGRAM_BUILD, "kernel sources are incomplete in this build");
 
   /* The hash goes into the source as a comment, so any driver cache keyed on text sees changes
@@ -114,6 +114,10 @@ lt_status lt__opencl_program(lt_context *ctx) {
                     ctx->build_log ? ctx->build_log : "");
   ctx->trace_kernel = clCreateKernel(ctx->program, "lt_trace_bvh", &err);
   lt_status status = lt__opencl_check(err, "clCreateKernel(lt_trace_bvh)");
+  if (!status) {
+    ctx->sort_kernel = clCreateKernel(ctx->program, "lt_lazy_sort", &err);
+    status = lt__opencl_check(err, "clCreateKernel(lt_lazy_sort)");
+  }
   if (!status) status = warm_up(ctx);
   ctx->compile_ms += lt_now_ms() - start;
   return status;
@@ -121,6 +125,7 @@ lt_status lt__opencl_program(lt_context *ctx) {
 
 void lt__opencl_close(lt_context *ctx) {
   if (ctx->trace_kernel) clReleaseKernel(ctx->trace_kernel);
+  if (ctx->sort_kernel) clReleaseKernel(ctx->sort_kernel);
   if (ctx->program) clReleaseProgram(ctx->program);
   if (ctx->queue) clReleaseCommandQueue(ctx->queue);
   if (ctx->cl) clReleaseContext(ctx->cl);

@@ -30,7 +30,12 @@
   X(LT_STAT_POOL_REQUESTED, "pool.requested") \
   X(LT_STAT_POOL_SPECULATIVE, "pool.speculative") \
   X(LT_STAT_POOL_STALLS, "pool.stalls")      \
-  X(LT_STAT_POOL_CACHE_HITS, "pool.cache_hits")
+  X(LT_STAT_POOL_CACHE_HITS, "pool.cache_hits") \
+  X(LT_STAT_POOL_CACHE_MISSES, "pool.cache_misses") \
+  X(LT_STAT_POOL_SCANS, "pool.scans")        \
+  X(LT_STAT_POOL_EMPTY_HITS, "pool.empty_cache_hits") \
+  X(LT_STAT_POOL_CHUNKS, "pool.chunks")      \
+  X(LT_STAT_POOL_IDLE, "pool.idle_polls")
 
 typedef enum {
 #define LT_STAT_ENUM(id, key) id,

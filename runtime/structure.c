@@ -3,7 +3,7 @@
 #include <string.h>
 
 #include "builders/bvh_sah.h"
-#include "kernels/native_trace.h"
+#include "kernels/native_kernels.h"
 #include "runtime/context_internal.h"
 #include "runtime/error.h"
 #include "runtime/stats_internal.h"

@@ -1,6 +1,6 @@
-/* Native entry of the trace kernel (kernels/native_trace.c). */
-#ifndef LT_NATIVE_TRACE_H
-#define LT_NATIVE_TRACE_H
+/* Native entries of the kernels: each runs on every native work-group (see lt__native_run). */
+#ifndef LT_NATIVE_KERNELS_H
+#define LT_NATIVE_KERNELS_H
 
 #include <stdint.h>
 
@@ -18,7 +18,9 @@ typedef struct lt__native_trace_args {
   uint64_t traversal_steps, intersections;
 } lt__native_trace_args;
 
-/* Runs on every native work-group; see lt__native_run. */
+/* kernels/native_trace.c: arg is an lt__native_trace_args. */
 void lt__native_trace_kernel(void *arg);
+/* kernels/native_lazy_sort.c: arg is an lt_sort (kernels/lazy_sort.h). */
+void lt__native_lazy_sort_kernel(void *arg);
 
 #endif

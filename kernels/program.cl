@@ -1,0 +1,3 @@
+/* The one OpenCL program lazytrace builds: every entry point, includes expanded once. */
+#include "kernels/trace.cl"
+#include "kernels/lazy_sort.cl"

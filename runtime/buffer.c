@@ -1,0 +1,57 @@
+/* Device buffers for either backend (see buffer.h). */
+#include "runtime/buffer.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "runtime/error.h"
+
+lt_status lt__buffer_create(lt_context *ctx, lt__buffer *buffer, size_t bytes, const void *init, int fill) {
+  memset(buffer, 0, sizeof *buffer);
+  buffer->bytes = bytes < 16 ? 16 : (bytes + 15) / 16 * 16;
+  if (ctx->kind == LT_DEVICE_NATIVE) {
+    buffer->host = aligned_alloc(64, (buffer->bytes + 63) / 64 * 64);
+    if (!buffer->host) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a %zu-byte buffer", bytes);
+  } else {
+    cl_int err;
+    buffer->mem = clCreateBuffer(ctx->cl, CL_MEM_READ_WRITE, buffer->bytes, NULL, &err);
+    if (err != CL_SUCCESS) return lt__opencl_check(err, "clCreateBuffer");
+  }
+  lt_status status = lt__buffer_fill(ctx, buffer, fill);
+  if (!status && init && bytes) status = lt__buffer_write(ctx, buffer, 0, bytes, init);
+  return status;
+}
+
+lt_status lt__buffer_fill(lt_context *ctx, lt__buffer *buffer, int fill) {
+  if (ctx->kind == LT_DEVICE_NATIVE) {
+    int *p = buffer->host;
+    for (size_t i = 0; i < buffer->bytes / sizeof(int); i++) p[i] = fill;
+    return LT_OK;
+  }
+  cl_int err = clEnqueueFillBuffer(ctx->queue, buffer->mem, &fill, sizeof fill, 0, buffer->bytes, 0, NULL, NULL);
+  return lt__opencl_check(err, "clEnqueueFillBuffer");
+}
+
+lt_status lt__buffer_write(lt_context *ctx, lt__buffer *buffer, size_t offset, size_t bytes, const void *src) {
+  if (ctx->kind == LT_DEVICE_NATIVE) {
+    memcpy((char *)buffer->host + offset, src, bytes);
+    return LT_OK;
+  }
+  cl_int err = clEnqueueWriteBuffer(ctx->queue, buffer->mem, CL_TRUE, offset, bytes, src, 0, NULL, NULL);
+  return lt__opencl_check(err, "clEnqueueWriteBuffer");
+}
+
+lt_status lt__buffer_read(lt_context *ctx, const lt__buffer *buffer, size_t offset, size_t bytes, void *dst) {
+  if (ctx->kind == LT_DEVICE_NATIVE) {
+    memcpy(dst, (const char *)buffer->host + offset, bytes);
+    return LT_OK;
+  }
+  cl_int err = clEnqueueReadBuffer(ctx->queue, buffer->mem, CL_TRUE, offset, bytes, dst, 0, NULL, NULL);
+  return lt__opencl_check(err, "clEnqueueReadBuffer");
+}
+
+void lt__buffer_release(lt__buffer *buffer) {
+  free(buffer->host);
+  if (buffer->mem) clReleaseMemObject(buffer->mem);
+  memset(buffer, 0, sizeof *buffer);
+}

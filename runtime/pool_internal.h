@@ -1,0 +1,33 @@
+/* The host half of the task pool: its buffers, initial state, launches and counters. */
+#ifndef LT_POOL_INTERNAL_H
+#define LT_POOL_INTERNAL_H
+
+#include "kernels/pool.h"
+#include "runtime/buffer.h"
+
+typedef struct lt__pool {
+  lt_context *ctx;
+  lt_pool_config config;
+  int mode;
+  lt__buffer headers, tasks, empty_cache, priority_cache, control, stats, order;
+} lt__pool;
+
+lt_pool_config lt__pool_config_defaults(const lt_pool_config *config);
+/* Allocates an empty pool: every header EMPTY, caches without entries, counters zero. */
+lt_status lt__pool_create(lt_context *ctx, const lt_pool_config *config, int mode, lt__pool *pool);
+void lt__pool_release(lt__pool *pool);
+/* Puts a task in `slot` from the host (the root), published as the mode says. */
+lt_status lt__pool_insert_root(lt__pool *pool, int slot, int node, int begin, int end, int chunks);
+/* Resets what one launch consumes: termination counter, own-work cursor, counters. */
+lt_status lt__pool_begin_launch(lt__pool *pool);
+/* Reads the control block and per-group counters after a launch, adds the counters to stats
+ * and turns a kernel-side error into an lt_status that describes the pool's state. */
+lt_status lt__pool_end_launch(lt__pool *pool, lt_stats *stats);
+/* The device view for the native backend (host pointers). */
+lt_pool lt__pool_native_view(lt__pool *pool);
+/* Sets the pool's kernel arguments 0..8 (the layout of lt_lazy_sort in kernels/lazy_sort.cl). */
+lt_status lt__pool_set_args(lt__pool *pool, cl_kernel kernel);
+/* Counts the headers by state, for messages and tests. */
+lt_status lt__pool_census(lt__pool *pool, int *empty, int *waiting, int *locked, int *unlocked);
+
+#endif
