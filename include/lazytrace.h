@@ -90,6 +90,8 @@ void lt_context_destroy(lt_context *ctx);
 /* "opencl:0 (pthread-...)" or "native (2 threads)". */
 const char *lt_context_device_name(const lt_context *ctx);
 lt_device_kind lt_context_device_kind(const lt_context *ctx);
+/* Persistent work-groups a launch uses (what runs concurrently, unless configured). */
+int lt_context_work_groups(const lt_context *ctx);
 /* Time spent compiling kernels in this context, in milliseconds (0 on native). */
 double lt_context_compile_ms(const lt_context *ctx);
 /* The OpenCL build log of the last program build, or "" if none. */
@@ -226,6 +228,10 @@ lt_status lt_lazy_sort_query(lt_lazy_sort *sort, const int32_t *positions, size_
 lt_status lt_lazy_sort_keys(lt_lazy_sort *sort, uint32_t *out);
 /* The node ids in the order their tasks were first taken, up to order_log_size. */
 lt_status lt_lazy_sort_order(lt_lazy_sort *sort, int32_t *out, size_t capacity, size_t *count);
+/* The baseline the scheduler is measured against: the same tasks sorted completely, one
+ * kernel launch per tree level, the host unlocking each next level between launches. The
+ * sort must have been created in full mode and not queried yet; *levels gets the launches. */
+lt_status lt_lazy_sort_by_levels(lt_lazy_sort *sort, lt_stats *stats, int *levels);
 /* Nodes built so far (partitioned nodes plus sorted leaves) and tasks still in the pool. */
 lt_status lt_lazy_sort_progress(lt_lazy_sort *sort, size_t *nodes_built, size_t *tasks_left);
 

@@ -27,6 +27,9 @@
 #define LT_POOL_FULL 0
 #define LT_POOL_REQUESTED 1
 #define LT_POOL_SPECULATIVE 2
+/* The level-by-level baseline: children wait, and the host unlocks each level between
+ * launches; a launch ends when no unlocked task is left. */
+#define LT_POOL_LEVELS 3
 
 /* Errors a kernel reports through the control block; the host turns them into lt_status. */
 #define LT_POOL_OK 0
@@ -62,7 +65,8 @@ typedef struct lt_pool_control {
   lt_i32 nodes_next;  /* node allocator of the workload */
   lt_i32 work_next;   /* next item of own work (ray, query) to hand out */
   lt_i32 order_next;  /* next entry of the order log */
-  lt_i32 pad[6];
+  lt_i32 waiting;     /* tasks published waiting in LT_POOL_LEVELS mode */
+  lt_i32 pad[5];
 } lt_pool_control;
 
 /* Per-work-group counters, written by work-item 0 of that group only. */
@@ -161,8 +165,9 @@ LT_DEVICE lt_i32 lt_pool_insert(const lt_pool *pool, lt_i32 node, lt_i32 begin, 
 /* Makes an inserted task visible: waiting in requested mode, unlocked otherwise. */
 LT_DEVICE void lt_pool_publish(const lt_pool *pool, lt_i32 slot) {
   LT_GLOBAL lt_task *task = &pool->tasks[slot];
-  lt_i32 header = pool->mode == LT_POOL_REQUESTED ? LT_POOL_WAITING(lt_atomic_load_i32(&task->node))
-                                                  : lt_atomic_load_i32(&task->chunks);
+  int wait = pool->mode == LT_POOL_REQUESTED || pool->mode == LT_POOL_LEVELS;
+  lt_i32 header = wait ? LT_POOL_WAITING(lt_atomic_load_i32(&task->node)) : lt_atomic_load_i32(&task->chunks);
+  if (pool->mode == LT_POOL_LEVELS) lt_atomic_add_i32(&pool->control->waiting, 1);
   lt_fence();
   lt_atomic_store_i32(&pool->headers[slot], header);
 }
@@ -274,11 +279,14 @@ LT_DEVICE void lt_pool_retire(const lt_pool *pool, lt_i32 slot) {
 }
 
 /* Whether a work-group that has given up its own work may quit: every work-group is out of
- * own work, and in a full build every task is done too; or an error stopped everything. */
+ * own work, and in a full build every task is done too (in the level baseline every task of
+ * this level); or an error stopped everything. */
 LT_DEVICE int lt_pool_may_quit(const lt_pool *pool) {
   if (lt_atomic_load_i32(&pool->control->error) != LT_POOL_OK) return 1;
   if (lt_atomic_load_i32(&pool->control->termination) > 0) return 0;
-  return pool->mode != LT_POOL_FULL || lt_atomic_load_i32(&pool->control->outstanding) == 0;
+  lt_i32 outstanding = lt_atomic_load_i32(&pool->control->outstanding);
+  if (pool->mode == LT_POOL_LEVELS) return outstanding - lt_atomic_load_i32(&pool->control->waiting) == 0;
+  return pool->mode != LT_POOL_FULL || outstanding == 0;
 }
 
 #endif

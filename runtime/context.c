@@ -56,6 +56,7 @@ void lt_context_destroy(lt_context *ctx) {
 
 const char *lt_context_device_name(const lt_context *ctx) { return ctx->name; }
 lt_device_kind lt_context_device_kind(const lt_context *ctx) { return ctx->kind; }
+int lt_context_work_groups(const lt_context *ctx) { return ctx->work_groups; }
 double lt_context_compile_ms(const lt_context *ctx) { return ctx->compile_ms; }
 const char *lt_context_build_log(const lt_context *ctx) { return ctx->build_log ? ctx->build_log : ""; }
 

@@ -149,6 +149,29 @@ lt_status lt_lazy_sort_query(lt_lazy_sort *s, const int32_t *positions, size_t c
   return pool_status;
 }
 
+lt_status lt_lazy_sort_by_levels(lt_lazy_sort *s, lt_stats *stats, int *levels) {
+  if (!s || !levels) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_lazy_sort_by_levels: NULL argument");
+  if (s->pool.mode != LT_POOL_FULL) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "the level baseline needs a full-mode sort");
+
+  /* Children wait now; each launch runs one level, then the host unlocks the next. */
+  s->pool.mode = LT_POOL_LEVELS;
+  lt__buffer none;
+  lt_status status = lt__buffer_create(s->ctx, &none, 16, NULL, 0);
+  double start = lt_now_ms();
+  *levels = 0;
+  for (int unlocked = 1; !status && unlocked > 0;) {
+    status = lt__pool_begin_launch(&s->pool);
+    if (!status) status = launch(s, &none, &none, 0);
+    if (!status) status = lt__pool_end_launch(&s->pool, stats);
+    if (!status) status = lt__pool_unlock_waiting(&s->pool, &unlocked);
+    ++*levels;
+  }
+  if (stats && !status) lt__stats_add(stats, LT_STAT_TOTAL_MS, lt_now_ms() - start);
+  lt__buffer_release(&none);
+  s->pool.mode = LT_POOL_FULL;
+  return status;
+}
+
 lt_status lt_lazy_sort_keys(lt_lazy_sort *s, uint32_t *out) {
   if (!s || (s->count && !out)) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_lazy_sort_keys: NULL argument");
   return lt__buffer_read(s->ctx, &s->keys, 0, (size_t)s->count * 4, out);

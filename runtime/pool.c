@@ -133,6 +133,29 @@ lt_status lt__pool_end_launch(lt__pool *pool, lt_stats *stats) {
                   control.termination, groups);
 }
 
+lt_status lt__pool_unlock_waiting(lt__pool *pool, int *count) {
+  /* Only slots below the high-water mark were ever used. */
+  lt_pool_control control;
+  lt_status status = lt__buffer_read(pool->ctx, &pool->control, 0, sizeof control, &control);
+  int n = control.high_water;
+  *count = 0;
+  if (status || n <= 0) return status;
+  int *headers = malloc((size_t)n * sizeof *headers);
+  lt_task *tasks = malloc((size_t)n * sizeof *tasks);
+  if (!headers || !tasks) status = lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory reading the pool");
+  if (!status) status = lt__buffer_read(pool->ctx, &pool->headers, 0, (size_t)n * 4, headers);
+  if (!status) status = lt__buffer_read(pool->ctx, &pool->tasks, 0, (size_t)n * sizeof *tasks, tasks);
+
+  /* Every waiting task becomes unlocked with its first phase's chunks. */
+  for (int i = 0; !status && i < n; i++)
+    if (LT_POOL_IS_WAITING(headers[i])) headers[i] = tasks[i].chunks, ++*count;
+  control.waiting = 0;
+  if (!status) status = lt__buffer_write(pool->ctx, &pool->headers, 0, (size_t)n * 4, headers);
+  if (!status) status = lt__buffer_write(pool->ctx, &pool->control, 0, sizeof control, &control);
+  free(headers), free(tasks);
+  return status;
+}
+
 lt_pool lt__pool_native_view(lt__pool *pool) {
   lt_pool view = {pool->headers.host, pool->tasks.host, pool->empty_cache.host, pool->priority_cache.host,
                   pool->control.host, pool->stats.host, pool->order.host, pool->config.capacity,

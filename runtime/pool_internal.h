@@ -23,6 +23,8 @@ lt_status lt__pool_begin_launch(lt__pool *pool);
 /* Reads the control block and per-group counters after a launch, adds the counters to stats
  * and turns a kernel-side error into an lt_status that describes the pool's state. */
 lt_status lt__pool_end_launch(lt__pool *pool, lt_stats *stats);
+/* Level baseline: unlocks every waiting task from the host; returns how many via *count. */
+lt_status lt__pool_unlock_waiting(lt__pool *pool, int *count);
 /* The device view for the native backend (host pointers). */
 lt_pool lt__pool_native_view(lt__pool *pool);
 /* Sets the pool's kernel arguments 0..8 (the layout of lt_lazy_sort in kernels/lazy_sort.cl). */

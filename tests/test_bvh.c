@@ -31,6 +31,7 @@ static const launch launches[] = {
 };
 
 static int opencl_available(void) {
+  if (getenv("LT_TEST_NATIVE_ONLY")) return 0;
   lt_context *ctx;
   lt_context_config config = {LT_DEVICE_OPENCL, 0, 0, 0, 1};
   if (lt_context_create(&config, &ctx) != LT_OK) return 0;

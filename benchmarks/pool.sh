@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# The task pool on its own workload (issue 3): a full lazy sort through the persistent kernel
+# against one launch per tree level, and requested mode, on both backends; medians written to
+# docs/results/pool_scheduler.md.
+#   benchmarks/pool.sh [--keys N] [--runs R]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup
+scripts/build
+out=docs/results/pool_scheduler.md
+table=$(build/benchmarks/bench_pool "$@")
+{
+  echo "# The task pool measured on its own workload (lazy sort)"
+  echo
+  echo "- command: \`benchmarks/pool.sh $*\`"
+  echo "- commit: $(git rev-parse --short HEAD)$(git diff --quiet HEAD -- . ':!docs' || echo ' (with uncommitted changes)')"
+  echo "- machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores, $(free -g | awk '/Mem:/ {print $2}') GiB; $(grep PRETTY /etc/os-release | cut -d= -f2 | tr -d '"')"
+  echo "- OpenCL: $(clinfo -l 2>/dev/null | sed -n 's/.*Device #0: //p' | head -1)"
+  echo "- date: $(date -u +%Y-%m-%d)"
+  echo
+  echo "$table"
+} >"$out"
+cat "$out"
