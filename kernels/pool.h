@@ -66,7 +66,8 @@ typedef struct lt_pool_control {
   lt_i32 work_next;   /* next item of own work (ray, query) to hand out */
   lt_i32 order_next;  /* next entry of the order log */
   lt_i32 waiting;     /* tasks published waiting in LT_POOL_LEVELS mode */
-  lt_i32 pad[5];
+  lt_i32 scan_hint;   /* where a scan last found work */
+  lt_i32 pad[4];
 } lt_pool_control;
 
 /* Per-work-group counters, written by work-item 0 of that group only. */
@@ -223,15 +224,17 @@ LT_DEVICE lt_i32 lt_pool_take(const lt_pool *pool, lt_i32 *chunk) {
   }
   lt_pool_count(pool, LT_POOL_STAT_CACHE_MISSES, 1);
 
-  /* Any unlocked task; work-groups start at different places to spread out. */
+  /* Any unlocked task, starting where work was last found: tasks inserted together sit
+   * together, so this finds the next one in a few steps instead of a scan of everything. */
   lt_i32 used = lt_atomic_load_i32(&pool->control->high_water);
   lt_pool_count(pool, LT_POOL_STAT_SCANS, 1);
-  if (used <= 0) return -1;
-  lt_i32 start = (lt_i32)(((lt_u32)lt_group_id() * 2654435761u) % (lt_u32)used);
+  lt_i32 start = lt_atomic_load_i32(&pool->control->scan_hint);
+  start = start >= 0 && start < used ? start : 0;
   for (lt_i32 i = 0; i < used; i++) {
-    lt_i32 slot = (start + i) % used;
+    lt_i32 slot = start + i < used ? start + i : start + i - used;
     lt_i32 c = lt_pool_take_from(pool, slot);
     if (c >= 0) {
+      if (slot != start) lt_atomic_store_i32(&pool->control->scan_hint, slot);
       *chunk = c;
       return slot;
     }

@@ -55,7 +55,11 @@ lt_status lt__opencl_open(lt_context *ctx, int index) {
 
   /* Persistent kernels launch only as many work-groups as run at once (DESIGN.md). */
   if (ctx->work_groups <= 0) ctx->work_groups = (int)units;
-  if (ctx->local_size <= 0) ctx->local_size = 64;
+  /* On a CPU a work-group's work-items run as a loop, and the persistent kernels measured
+   * fastest with one work-item (docs/results/pool_scheduler.md); GPUs want wide groups. */
+  cl_device_type type = CL_DEVICE_TYPE_GPU;
+  clGetDeviceInfo(ctx->device, CL_DEVICE_TYPE, sizeof type, &type, NULL);
+  if (ctx->local_size <= 0) ctx->local_size = (type & CL_DEVICE_TYPE_CPU) ? 1 : 64;
 
   cl_int err;
   ctx->cl = clCreateContext(NULL, 1, &ctx->device, NULL, NULL, &err);
@@ -84,7 +88,7 @@ static lt_status warm_up(lt_context *ctx) {
   for (cl_uint i = 0; i < 8; i++)
     err |= i == 1 || i == 2 ? clSetKernelArg(ctx->trace_kernel, i, sizeof zero, &zero)
                             : clSetKernelArg(ctx->trace_kernel, i, sizeof dummy, &dummy);
-  size_t local = (size_t)ctx->local_size, global = local;
+  size_t local = (size_t)ctx->local_size, global = local * 1024;
   if (err == CL_SUCCESS) err = clEnqueueNDRangeKernel(ctx->queue, ctx->trace_kernel, 1, NULL, &global, &local, 0, NULL, NULL);
   if (err == CL_SUCCESS) err = clFinish(ctx->queue);
   clReleaseMemObject(dummy);
