@@ -97,8 +97,9 @@ int main(int argc, char **argv) {
     if (lt_context_create(&config, &ctx) != LT_OK) continue;
     int groups = lt_context_work_groups(ctx);
     result r[3];
-    for (int mode = 0; mode < 3; mode++)
-      for (int run = 0; run < runs; run++) {
+    /* Methods interleaved run by run, so that the machine's drift hits them alike. */
+    for (int run = 0; run < runs; run++)
+      for (int mode = 0; mode < 3; mode++) {
         if (measure(ctx, keys, sorted, n, mode, run, &r[mode])) return 1;
         fprintf(stderr, "  %s, %s, run %d: %.1f ms\n", lt_context_device_name(ctx), names[mode], run + 1, r[mode].ms[run]);
       }
