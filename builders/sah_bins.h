@@ -1,0 +1,186 @@
+/* Binned SAH split search shared by the host builder and the pool's node tasks (Wald 2007;
+ * the on-demand paper, section 3.4: 32 bins, object median when SAH finds no split).
+ * Bins are ints so that the same layout serves private arrays and global slabs that chunks
+ * merge into with atomics: floats are stored in an order-preserving int encoding, so that
+ * min and max are integer min and max, and the result does not depend on the merge order. */
+#ifndef LT_SAH_BINS_H
+#define LT_SAH_BINS_H
+
+#include "kernels/compat.h"
+
+#define LT_MAX_BINS 32
+#define LT_BIN_STRIDE 13 /* count, box lo xyz, box hi xyz, centroid lo xyz, centroid hi xyz */
+#define LT_BINS_SIZE (3 * LT_MAX_BINS * LT_BIN_STRIDE)
+
+/* An int whose order is the float's order (for every non-NaN float). */
+LT_DEVICE lt_i32 lt_ordered(float f) {
+  lt_i32 b = lt_float_as_int(f);
+  return b >= 0 ? b : b ^ 0x7fffffff;
+}
+LT_DEVICE float lt_unordered(lt_i32 o) { return lt_int_as_float(o >= 0 ? o : o ^ 0x7fffffff); }
+
+/* An axis-aligned box as 6 floats: lo xyz, hi xyz. */
+typedef struct lt_box {
+  float lo[3], hi[3];
+} lt_box;
+
+LT_DEVICE lt_box lt_box_empty(void) {
+  lt_box b;
+  for (int k = 0; k < 3; k++) b.lo[k] = INFINITY, b.hi[k] = -INFINITY;
+  return b;
+}
+
+LT_DEVICE void lt_box_grow(lt_box *b, const lt_box *o) {
+  for (int k = 0; k < 3; k++) {
+    b->lo[k] = o->lo[k] < b->lo[k] ? o->lo[k] : b->lo[k];
+    b->hi[k] = o->hi[k] > b->hi[k] ? o->hi[k] : b->hi[k];
+  }
+}
+
+LT_DEVICE float lt_box_area(const lt_box *b) {
+  float d[3];
+  for (int k = 0; k < 3; k++) d[k] = b->hi[k] > b->lo[k] ? b->hi[k] - b->lo[k] : 0.0f;
+  return 2.0f * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
+}
+
+/* The box and centroid of a triangle given as 9 floats. */
+LT_DEVICE void lt_tri_bounds(const float *v, lt_box *box, float centroid[3]) {
+  for (int k = 0; k < 3; k++) {
+    float a = v[k], b = v[3 + k], c = v[6 + k];
+    float lo = a < b ? a : b, hi = a > b ? a : b;
+    box->lo[k] = c < lo ? c : lo;
+    box->hi[k] = c > hi ? c : hi;
+    centroid[k] = 0.5f * (box->lo[k] + box->hi[k]);
+  }
+}
+
+/* Per-axis bin scale over the centroid bounds; 0 on an axis where all centroids coincide. */
+LT_DEVICE void lt_bin_scale(const lt_box *cbounds, int bins, float scale[3]) {
+  for (int k = 0; k < 3; k++) {
+    float extent = cbounds->hi[k] - cbounds->lo[k];
+    scale[k] = extent > 0.0f ? bins / extent : 0.0f;
+  }
+}
+
+/* Bin of a centroid coordinate; clamped because rounding can land on k == bins. */
+LT_DEVICE int lt_bin_of(float c, float lo, float scale, int bins) {
+  int k = (int)((c - lo) * scale);
+  return k < 0 ? 0 : k >= bins ? bins - 1 : k;
+}
+
+LT_DEVICE void lt_bins_clear(lt_i32 *bins) {
+  for (int i = 0; i < 3 * LT_MAX_BINS; i++) {
+    lt_i32 *b = bins + i * LT_BIN_STRIDE;
+    b[0] = 0;
+    for (int k = 0; k < 3; k++) {
+      b[1 + k] = b[7 + k] = lt_ordered(INFINITY);
+      b[4 + k] = b[10 + k] = lt_ordered(-INFINITY);
+    }
+  }
+}
+
+/* Adds one primitive to its bin on every axis that has an extent. */
+LT_DEVICE void lt_bins_add(lt_i32 *bins, const lt_box *cbounds, const float scale[3], int nbins, const lt_box *box,
+                           const float centroid[3]) {
+  for (int axis = 0; axis < 3; axis++) {
+    if (scale[axis] == 0.0f) continue;
+    lt_i32 *b = bins + (axis * LT_MAX_BINS + lt_bin_of(centroid[axis], cbounds->lo[axis], scale[axis], nbins)) * LT_BIN_STRIDE;
+    b[0]++;
+    for (int k = 0; k < 3; k++) {
+      lt_i32 lo = lt_ordered(box->lo[k]), hi = lt_ordered(box->hi[k]), c = lt_ordered(centroid[k]);
+      b[1 + k] = lo < b[1 + k] ? lo : b[1 + k];
+      b[4 + k] = hi > b[4 + k] ? hi : b[4 + k];
+      b[7 + k] = c < b[7 + k] ? c : b[7 + k];
+      b[10 + k] = c > b[10 + k] ? c : b[10 + k];
+    }
+  }
+}
+
+/* Merges private bins into a global slab with atomics (order-independent). */
+LT_DEVICE void lt_bins_merge_global(LT_GLOBAL lt_i32 *slab, const lt_i32 *bins) {
+  for (int i = 0; i < 3 * LT_MAX_BINS; i++) {
+    const lt_i32 *b = bins + i * LT_BIN_STRIDE;
+    if (b[0] == 0) continue;
+    LT_GLOBAL lt_i32 *s = slab + i * LT_BIN_STRIDE;
+    lt_atomic_add_i32(&s[0], b[0]);
+    for (int k = 0; k < 3; k++) {
+      lt_atomic_min_i32(&s[1 + k], b[1 + k]);
+      lt_atomic_max_i32(&s[4 + k], b[4 + k]);
+      lt_atomic_min_i32(&s[7 + k], b[7 + k]);
+      lt_atomic_max_i32(&s[10 + k], b[10 + k]);
+    }
+  }
+}
+
+/* Accumulated box (or centroid box, at offset 7) of a bin. */
+LT_DEVICE void lt_bin_grow(lt_box *acc, const lt_i32 *b, int offset) {
+  lt_box o;
+  for (int k = 0; k < 3; k++) o.lo[k] = lt_unordered(b[offset + k]), o.hi[k] = lt_unordered(b[offset + 3 + k]);
+  lt_box_grow(acc, &o);
+}
+
+/* The best split found in the bins. */
+typedef struct lt_split {
+  int axis, bin;          /* primitives in bins [0, bin] of axis go left; axis -1: no split */
+  float cost;             /* SAH cost relative to one triangle test, FLT_MAX-like if none */
+  int left_count;
+  lt_box left, right;     /* primitive bounds of each side */
+  lt_box cleft, cright;   /* centroid bounds of each side */
+} lt_split;
+
+/* Prices every bin boundary on every axis; keeps the cheapest (the first on ties, axes in
+ * order x, y, z, so that every builder makes the same choice). */
+LT_DEVICE lt_split lt_sah_best_split(const lt_i32 *bins, int nbins, const lt_box *bounds, float traversal_cost,
+                                     float intersection_cost) {
+  lt_split best;
+  best.axis = -1, best.bin = -1, best.cost = INFINITY, best.left_count = 0;
+  float parent_area = lt_box_area(bounds);
+  for (int axis = 0; axis < 3; axis++) {
+    const lt_i32 *ab = bins + axis * LT_MAX_BINS * LT_BIN_STRIDE;
+
+    /* Right-hand areas and counts by a sweep from the right. */
+    float right_area[LT_MAX_BINS];
+    int right_count[LT_MAX_BINS];
+    lt_box acc = lt_box_empty();
+    int n = 0;
+    for (int i = nbins - 1; i > 0; i--) {
+      n += ab[i * LT_BIN_STRIDE];
+      if (ab[i * LT_BIN_STRIDE]) lt_bin_grow(&acc, ab + i * LT_BIN_STRIDE, 1);
+      right_area[i] = lt_box_area(&acc);
+      right_count[i] = n;
+    }
+
+    /* Prices from the left. */
+    acc = lt_box_empty();
+    n = 0;
+    for (int i = 0; i < nbins - 1; i++) {
+      n += ab[i * LT_BIN_STRIDE];
+      if (ab[i * LT_BIN_STRIDE]) lt_bin_grow(&acc, ab + i * LT_BIN_STRIDE, 1);
+      if (n == 0 || right_count[i + 1] == 0) continue;
+      float cost = traversal_cost +
+                   intersection_cost * (lt_box_area(&acc) * n + right_area[i + 1] * right_count[i + 1]) / parent_area;
+      if (cost < best.cost) best.axis = axis, best.bin = i, best.cost = cost, best.left_count = n;
+    }
+  }
+  if (best.axis < 0) return best;
+
+  /* Both sides' primitive and centroid bounds, from the chosen axis's bins. */
+  const lt_i32 *ab = bins + best.axis * LT_MAX_BINS * LT_BIN_STRIDE;
+  best.left = best.right = best.cleft = best.cright = lt_box_empty();
+  for (int i = 0; i < nbins; i++) {
+    if (!ab[i * LT_BIN_STRIDE]) continue;
+    lt_bin_grow(i <= best.bin ? &best.left : &best.right, ab + i * LT_BIN_STRIDE, 1);
+    lt_bin_grow(i <= best.bin ? &best.cleft : &best.cright, ab + i * LT_BIN_STRIDE, 7);
+  }
+  return best;
+}
+
+/* Whether a node of n primitives at this depth becomes a leaf: small enough and SAH sees no
+ * gain, a single primitive, or the depth bound that keeps traversal stacks from overflowing.
+ * A node of more than max_leaf primitives with no SAH split takes the object median. */
+LT_DEVICE int lt_sah_make_leaf(int n, int depth, const lt_split *s, int max_leaf, float intersection_cost,
+                               int max_depth) {
+  return n <= 1 || depth >= max_depth - 1 || (n <= max_leaf && !(s->cost < intersection_cost * n));
+}
+
+#endif
