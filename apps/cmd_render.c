@@ -48,9 +48,14 @@ int lt_cmd_render(lt_cli *cli) {
     rc = lt_cli_fail("building the structure", status);
     goto done;
   }
-  fprintf(stderr, "lazytrace: %s built on %s in %.0f ms (kernels compiled in %.0f ms)\n",
-          lt_structure_kind_name(cli->structure.kind), lt_context_device_name(ctx), lt_stats_get(stats, "build_ms"),
-          lt_context_compile_ms(ctx));
+  if (cli->structure.build == LT_BUILD_FULL)
+    fprintf(stderr, "lazytrace: %s built in full on %s in %.0f ms (kernels compiled in %.0f ms)\n",
+            lt_structure_kind_name(cli->structure.kind), lt_context_device_name(ctx), lt_stats_get(stats, "build_ms"),
+            lt_context_compile_ms(ctx));
+  else
+    fprintf(stderr, "lazytrace: %s to be built on demand (%s) on %s (kernels compiled in %.0f ms)\n",
+            lt_structure_kind_name(cli->structure.kind), lt_build_mode_name(cli->structure.build),
+            lt_context_device_name(ctx), lt_context_compile_ms(ctx));
   lt_camera camera = lt_scene_camera(scene);
   lt_camera_primary_rays(&camera, cli->width, cli->height, rays);
   status = lt_structure_trace(structure, rays, n, LT_QUERY_CLOSEST, hits, stats);
@@ -58,8 +63,9 @@ int lt_cmd_render(lt_cli *cli) {
     rc = lt_cli_fail("tracing", status);
     goto done;
   }
-  fprintf(stderr, "lazytrace: %zu primary rays traced in %.0f ms (%.1f Mrays/s)\n", n, lt_stats_get(stats, "trace_ms"),
-          n / 1e3 / lt_stats_get(stats, "trace_ms"));
+  fprintf(stderr, "lazytrace: %zu primary rays: time to image %.0f ms (build %.0f, trace %.0f); %.0f nodes built\n", n,
+          lt_stats_get(stats, "total_ms"), lt_stats_get(stats, "build_ms"), lt_stats_get(stats, "trace_ms"),
+          lt_stats_get(stats, "nodes_built"));
 
   /* Shade and write. */
   for (size_t i = 0; i < n; i++) shade(scene, &rays[i], &hits[i], rgb + 3 * i);

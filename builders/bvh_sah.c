@@ -68,11 +68,11 @@ static void set_child(lt_bvh_node *node, int side, const child *c) {
   if (side == 0) {
     node->left_xy = lt_make_float4(x->lo[0], x->hi[0], x->lo[1], x->hi[1]);
     node->lr_z.x = x->lo[2], node->lr_z.y = x->hi[2];
-    node->link.x = c->link, node->link.z = c->count;
+    node->link[0] = c->link, node->link[2] = c->count;
   } else {
     node->right_xy = lt_make_float4(x->lo[0], x->hi[0], x->lo[1], x->hi[1]);
     node->lr_z.z = x->lo[2], node->lr_z.w = x->hi[2];
-    node->link.y = c->link, node->link.w = c->count;
+    node->link[1] = c->link, node->link[3] = c->count;
   }
 }
 

@@ -153,7 +153,8 @@ lt_status lt_stats_write_json(const lt_stats *stats, FILE *out);
 /* ---- Acceleration structures ---- */
 
 typedef enum {
-  LT_STRUCTURE_BVH = 0, /* binned SAH BVH */
+  LT_STRUCTURE_BVH = 0, /* binned SAH BVH, built through the task pool (full or on demand) */
+  LT_STRUCTURE_LBVH,    /* Morton-code LBVH with an SAH top (the fast-build baseline), full only */
   LT_STRUCTURE_COUNT
 } lt_structure_kind;
 
@@ -161,7 +162,7 @@ typedef enum { LT_BUILD_FULL = 0, LT_BUILD_REQUESTED, LT_BUILD_SPECULATIVE } lt_
 
 typedef struct lt_structure_config {
   lt_structure_kind kind; /* default BVH */
-  lt_build_mode build;    /* default FULL until on-demand building lands */
+  lt_build_mode build;    /* default SPECULATIVE (the zero value is FULL: say it explicitly) */
   int max_leaf_size;      /* default 16 (the paper's leaf bound) */
   int sah_bins;           /* default 32 (the paper's bin count) */
   float traversal_cost;   /* SAH cost of one node visit relative to one intersection; default 1 */

@@ -12,7 +12,9 @@
 #define LT_SORT_CHUNK 256 /* elements per work chunk */
 #define LT_SORT_LEAF 32   /* ranges this small are sorted at once by their parent */
 #define LT_SORT_MAX_DEPTH 4096
+#ifndef LT_MAX_LOCAL_SIZE
 #define LT_MAX_LOCAL_SIZE 256
+#endif
 
 /* Node states: a leaf is sorted; an unbuilt node points at its task; a built node holds the
  * id of its first child (the second is first + 1). */
@@ -163,7 +165,7 @@ LT_DEVICE void lt_sort_end_phase(const lt_sort *s, lt_i32 slot) {
   LT_GLOBAL lt_task *task = &s->pool.tasks[slot];
   lt_i32 chunks = lt_sort_chunks(task->end - task->begin);
   if (task->phase != LT_SORT_COPY) {
-    lt_pool_next_phase(&s->pool, slot, chunks);
+    lt_pool_next_phase(&s->pool, slot, task->phase + 1, chunks);
     return;
   }
 

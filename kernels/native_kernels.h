@@ -22,5 +22,7 @@ typedef struct lt__native_trace_args {
 void lt__native_trace_kernel(void *arg);
 /* kernels/native_lazy_sort.c: arg is an lt_sort (kernels/lazy_sort.h). */
 void lt__native_lazy_sort_kernel(void *arg);
+/* kernels/native_bvh_ondemand.c: arg is an lt_od_trace_args (kernels/bvh_ondemand.h). */
+void lt__native_bvh_ondemand_kernel(void *arg);
 
 #endif

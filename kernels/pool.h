@@ -41,7 +41,7 @@
 /* Task flags. */
 #define LT_TASK_REQUESTED 1
 
-/* One task: 64 bytes of plain ints, so that single fields can be used atomically. */
+/* One task: 96 bytes of plain ints, so that single fields can be used atomically. */
 typedef struct lt_task {
   lt_i32 begin, end; /* 8 bytes: the range of elements (primitives) the node holds */
   lt_i32 node;       /* 4 bytes: the node this task builds; its waiting value is WAITING | node */
@@ -50,7 +50,7 @@ typedef struct lt_task {
   lt_i32 done;       /* 4 bytes: chunks of the current phase finished (atomic) */
   lt_i32 flags;      /* 4 bytes: LT_TASK_REQUESTED once a ray asked for it */
   lt_i32 depth;      /* 4 bytes: depth of the node */
-  lt_i32 work[8];    /* 32 bytes: the workload's per-task scratch, used atomically */
+  lt_i32 work[16];   /* 64 bytes: the workload's per-task data and scratch */
 } lt_task;
 
 /* The pool's global counters. */
@@ -158,7 +158,7 @@ LT_DEVICE lt_i32 lt_pool_insert(const lt_pool *pool, lt_i32 node, lt_i32 begin, 
   lt_atomic_store_i32(&task->chunks, chunks);
   lt_atomic_store_i32(&task->flags, 0);
   lt_atomic_store_i32(&task->done, 0);
-  for (int k = 0; k < 8; k++) lt_atomic_store_i32(&task->work[k], 0);
+  for (int k = 0; k < 16; k++) lt_atomic_store_i32(&task->work[k], 0);
   lt_atomic_add_i32(&pool->control->outstanding, 1);
   return slot;
 }
@@ -259,10 +259,10 @@ LT_DEVICE int lt_pool_finish_chunk(const lt_pool *pool, lt_i32 slot) {
   return lt_atomic_add_i32(&task->done, 1) + 1 == lt_atomic_load_i32(&task->chunks);
 }
 
-/* Switches the task (locked: header 0, all chunks done) to its next phase of `chunks` chunks. */
-LT_DEVICE void lt_pool_next_phase(const lt_pool *pool, lt_i32 slot, lt_i32 chunks) {
+/* Switches the task (locked: header 0, all chunks done) to `phase`, of `chunks` chunks. */
+LT_DEVICE void lt_pool_next_phase(const lt_pool *pool, lt_i32 slot, lt_i32 phase, lt_i32 chunks) {
   LT_GLOBAL lt_task *task = &pool->tasks[slot];
-  task->phase++;
+  task->phase = phase;
   lt_atomic_store_i32(&task->chunks, chunks);
   lt_atomic_store_i32(&task->done, 0);
   lt_fence();

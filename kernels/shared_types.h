@@ -18,7 +18,8 @@ typedef struct lt_bvh_node {
   lt_float4 left_xy;   /* 16 bytes: left child lo.x, hi.x, lo.y, hi.y */
   lt_float4 right_xy;  /* 16 bytes: right child lo.x, hi.x, lo.y, hi.y */
   lt_float4 lr_z;      /* 16 bytes: left lo.z, hi.z, right lo.z, hi.z */
-  lt_int4 link;        /* 16 bytes: left link, right link, left count, right count */
+  lt_i32 link[4];      /* 16 bytes: left link, right link, left count, right count (an array,
+                          not an int4, so that single fields can be used atomically) */
 } lt_bvh_node;
 
 /* A triangle in leaf order: its three vertices, and its number in the scene in v0.w. */

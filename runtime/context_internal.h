@@ -22,6 +22,8 @@ struct lt_context {
   cl_program program;
   cl_kernel trace_kernel;
   cl_kernel sort_kernel;
+  cl_kernel ondemand_kernel;
+  int ondemand_warm; /* the on-demand kernel has run once (PoCL compiled it) */
 };
 
 /* OpenCL backend (runtime/opencl.c). */

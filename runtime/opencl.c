@@ -122,6 +122,10 @@ lt_status lt__opencl_program(lt_context *ctx) {
     ctx->sort_kernel = clCreateKernel(ctx->program, "lt_lazy_sort", &err);
     status = lt__opencl_check(err, "clCreateKernel(lt_lazy_sort)");
   }
+  if (!status) {
+    ctx->ondemand_kernel = clCreateKernel(ctx->program, "lt_bvh_ondemand", &err);
+    status = lt__opencl_check(err, "clCreateKernel(lt_bvh_ondemand)");
+  }
   if (!status) status = warm_up(ctx);
   ctx->compile_ms += lt_now_ms() - start;
   return status;
@@ -130,6 +134,7 @@ lt_status lt__opencl_program(lt_context *ctx) {
 void lt__opencl_close(lt_context *ctx) {
   if (ctx->trace_kernel) clReleaseKernel(ctx->trace_kernel);
   if (ctx->sort_kernel) clReleaseKernel(ctx->sort_kernel);
+  if (ctx->ondemand_kernel) clReleaseKernel(ctx->ondemand_kernel);
   if (ctx->program) clReleaseProgram(ctx->program);
   if (ctx->queue) clReleaseCommandQueue(ctx->queue);
   if (ctx->cl) clReleaseContext(ctx->cl);

@@ -3,23 +3,35 @@
 #include <string.h>
 
 #include "builders/bvh_sah.h"
+#include "builders/lbvh.h"
 #include "kernels/native_kernels.h"
 #include "runtime/context_internal.h"
 #include "runtime/error.h"
 #include "runtime/stats_internal.h"
+#include "runtime/ondemand_internal.h"
 #include "scenes/scene_internal.h"
 
 struct lt_structure {
   lt_context *ctx;
   lt_structure_config config;
+  const lt_scene *scene; /* kept to rebuild with larger buffers when one fills up */
+  lt__sah_config sah;
+
+  /* A tree built on the host and traced by the trace kernel (LBVH). */
+  int host_built;
   lt__bvh bvh;
   cl_mem nodes; /* OpenCL copies of bvh.nodes and bvh.tris */
   cl_mem tris;
+
+  /* The SAH BVH built through the task pool, fully or on demand. */
+  lt__ondemand od;
+  int od_live;
+  int pool_capacity;
 };
 
-static const char *const structure_names[] = {"bvh"};
+static const char *const structure_names[] = {"bvh", "lbvh"};
 /* Names a user may give that later issues implement; each is refused with a clear message. */
-static const char *const planned_structures[] = {"kdtree", "irgrid", "grid", "qbvh", "lbvh", "escape-bvh", NULL};
+static const char *const planned_structures[] = {"kdtree", "irgrid", "grid", "qbvh", "escape-bvh", NULL};
 static const char *const build_names[] = {"full", "requested", "speculative"};
 
 const char *lt_structure_kind_name(lt_structure_kind kind) {
@@ -32,8 +44,8 @@ lt_status lt_structure_kind_parse(const char *name, lt_structure_kind *out) {
     if (strcmp(name, structure_names[i]) == 0) return *out = (lt_structure_kind)i, LT_OK;
   for (int i = 0; planned_structures[i]; i++)
     if (strcmp(name, planned_structures[i]) == 0)
-      return lt__fail(LT_ERROR_UNSUPPORTED, "--structure %s is not implemented yet (available: bvh)", name);
-  return lt__fail(LT_ERROR_INVALID_ARGUMENT, "unknown structure '%s' (known: bvh; planned: kdtree, irgrid, grid, qbvh, lbvh)", name);
+      return lt__fail(LT_ERROR_UNSUPPORTED, "--structure %s is not implemented yet (available: bvh, lbvh)", name);
+  return lt__fail(LT_ERROR_INVALID_ARGUMENT, "unknown structure '%s' (known: bvh, lbvh; planned: kdtree, irgrid, grid, qbvh)", name);
 }
 
 lt_status lt_build_mode_parse(const char *name, lt_build_mode *out) {
@@ -52,59 +64,108 @@ static lt_status upload(lt_structure *s) {
   return lt__opencl_check(err, "uploading BVH triangles");
 }
 
-lt_status lt_structure_create(lt_context *ctx, const lt_scene *scene, const lt_structure_config *config,
-                              lt_stats *stats, lt_structure **out) {
-  lt_structure_config defaults = {LT_STRUCTURE_BVH, LT_BUILD_FULL, 16, 32, 1.0f};
-  if (!ctx || !scene || !out) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_structure_create: NULL argument");
-  if (!config) config = &defaults;
-  if (config->kind != LT_STRUCTURE_BVH) return lt__fail(LT_ERROR_UNSUPPORTED, "only the BVH exists so far");
-  if (config->build != LT_BUILD_FULL)
-    return lt__fail(LT_ERROR_UNSUPPORTED, "--build %s needs the task pool, which is not implemented yet; use --build full",
-                    lt_build_mode_name(config->build));
-  if (scene->count == 0) return lt__fail(LT_ERROR_EMPTY_SCENE, "the scene has no triangles");
+#define MAX_POOL (1 << 26)
 
-  lt_structure *s = calloc(1, sizeof *s);
-  if (!s) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a structure");
-  s->ctx = ctx;
-  s->config = *config;
+/* Pool capacity to start from; a full pool doubles it and starts again (never a silent drop). */
+static int initial_pool_capacity(size_t triangles) {
+  size_t c = triangles / 8;
+  return c < 4096 ? 4096 : c > (1u << 22) ? (1 << 22) : (int)c;
+}
 
-  /* Kernels compile before the clock starts: compile time is reported apart. */
-  lt_status status = ctx->kind == LT_DEVICE_OPENCL ? lt__opencl_program(ctx) : LT_OK;
+/* (Re)creates the on-demand tree, and in a full build builds all of it. */
+static lt_status start_ondemand(lt_structure *s, lt_stats *stats) {
+  if (s->od_live) lt__ondemand_release(&s->od);
+  s->od_live = 0;
+  lt_status status = lt__ondemand_create(s->ctx, s->scene, &s->sah, (int)s->config.build, s->pool_capacity,
+                                         (int)s->scene->count + 2, &s->od);
+  if (status) return status;
+  s->od_live = 1;
+  if (s->config.build != LT_BUILD_FULL) return LT_OK;
   double start = lt_now_ms();
-  lt__sah_config sah = lt__sah_config_default();
-  if (config->max_leaf_size > 0) sah.max_leaf_size = config->max_leaf_size;
-  if (config->sah_bins > 0) sah.bins = config->sah_bins;
-  if (config->traversal_cost > 0) sah.traversal_cost = config->traversal_cost;
-  if (!status) status = lt__bvh_build_sah(scene->tris, scene->count, &sah, &s->bvh);
-  if (!status && ctx->kind == LT_DEVICE_OPENCL) status = upload(s);
-  double build_ms = lt_now_ms() - start;
-  if (status) {
-    lt_structure_destroy(s);
-    return status;
-  }
+  status = lt__ondemand_launch(&s->od, NULL, 0, 0, NULL, 0, stats);
+  lt__stats_add(stats, LT_STAT_BUILD_MS, lt_now_ms() - start);
+  return status;
+}
 
-  /* What the build made, in the contract's terms. */
-  if (stats) {
+/* Runs `step` again with a pool twice as large, from scratch, while the pool fills up. */
+static lt_status with_retry(lt_structure *s, lt_stats *stats, lt_status status) {
+  while (status == LT_ERROR_CAPACITY && s->pool_capacity < MAX_POOL) {
+    if (!s->ctx->quiet) fprintf(stderr, "lazytrace: %s; retrying with a pool of %d tasks\n", lt_last_error(), 2 * s->pool_capacity);
+    s->pool_capacity *= 2;
+    status = start_ondemand(s, stats);
+  }
+  return status;
+}
+
+static void put_build_stats(lt_structure *s, lt_stats *stats) {
+  lt__stats_text(stats, "structure", lt_structure_kind_name(s->config.kind));
+  lt__stats_text(stats, "build", lt_build_mode_name(s->config.build));
+  lt__stats_text(stats, "device", s->ctx->name);
+  lt__stats_put(stats, LT_STAT_TRIANGLES, (double)s->scene->count);
+  lt__stats_put(stats, LT_STAT_SKIPPED_TRIANGLES, (double)s->scene->skipped);
+  lt__stats_put(stats, LT_STAT_COMPILE_MS, s->ctx->compile_ms);
+  lt__stats_put(stats, LT_STAT_REFERENCES, (double)s->scene->count);
+  if (s->host_built) {
     size_t node_bytes = (size_t)s->bvh.node_count * sizeof(lt_bvh_node);
     size_t ref_bytes = (size_t)s->bvh.tri_count * sizeof(lt_tri);
-    lt__stats_text(stats, "structure", lt_structure_kind_name(config->kind));
-    lt__stats_text(stats, "build", lt_build_mode_name(config->build));
-    lt__stats_text(stats, "device", ctx->name);
-    lt__stats_put(stats, LT_STAT_TRIANGLES, (double)scene->count);
-    lt__stats_put(stats, LT_STAT_SKIPPED_TRIANGLES, (double)scene->skipped);
-    lt__stats_put(stats, LT_STAT_COMPILE_MS, ctx->compile_ms);
-    lt__stats_add(stats, LT_STAT_BUILD_MS, build_ms);
     lt__stats_put(stats, LT_STAT_NODES_BUILT, (double)lt__bvh_tree_nodes(&s->bvh));
     lt__stats_put(stats, LT_STAT_NODES_FULL, (double)lt__bvh_tree_nodes(&s->bvh));
-    lt__stats_put(stats, LT_STAT_REFERENCES, (double)s->bvh.tri_count);
-    lt__stats_add(stats, LT_STAT_SORT_OPS, (double)s->bvh.sort_ops);
     lt__stats_put(stats, LT_STAT_NODE_BYTES, (double)node_bytes);
     lt__stats_put(stats, LT_STAT_REFERENCE_BYTES, (double)ref_bytes);
     lt__stats_put(stats, LT_STAT_POOL_BYTES, 0);
     lt__stats_put(stats, LT_STAT_MEMORY_BYTES, (double)(node_bytes + ref_bytes));
     lt__stats_put(stats, LT_STAT_MAX_DEPTH, s->bvh.max_depth);
     lt__stats_put(stats, LT_STAT_SAH_COST, s->bvh.sah_cost);
+    return;
   }
+  double nodes = 0, node_bytes, ref_bytes, pool_bytes;
+  lt__ondemand_nodes_built(&s->od, &nodes);
+  lt__stats_put(stats, LT_STAT_NODES_BUILT, nodes);
+  if (s->config.build == LT_BUILD_FULL) lt__stats_put(stats, LT_STAT_NODES_FULL, nodes);
+  lt__stats_put(stats, LT_STAT_MEMORY_BYTES, lt__ondemand_bytes(&s->od, &node_bytes, &ref_bytes, &pool_bytes));
+  lt__stats_put(stats, LT_STAT_NODE_BYTES, node_bytes);
+  lt__stats_put(stats, LT_STAT_REFERENCE_BYTES, ref_bytes);
+  lt__stats_put(stats, LT_STAT_POOL_BYTES, pool_bytes);
+}
+
+lt_status lt_structure_create(lt_context *ctx, const lt_scene *scene, const lt_structure_config *config,
+                              lt_stats *stats, lt_structure **out) {
+  lt_structure_config defaults = {LT_STRUCTURE_BVH, LT_BUILD_SPECULATIVE, 16, 32, 1.0f};
+  if (!ctx || !scene || !out) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_structure_create: NULL argument");
+  if (!config) config = &defaults;
+  if (config->kind >= LT_STRUCTURE_COUNT) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "unknown structure kind %d", config->kind);
+  if (config->kind == LT_STRUCTURE_LBVH && config->build != LT_BUILD_FULL)
+    return lt__fail(LT_ERROR_UNSUPPORTED, "the LBVH is built in full only (--build full)");
+  if (scene->count == 0) return lt__fail(LT_ERROR_EMPTY_SCENE, "the scene has no triangles");
+
+  lt_structure *s = calloc(1, sizeof *s);
+  if (!s) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a structure");
+  s->ctx = ctx;
+  s->config = *config;
+  s->scene = scene;
+  s->pool_capacity = initial_pool_capacity(scene->count);
+  s->sah = lt__sah_config_default();
+  if (config->max_leaf_size > 0) s->sah.max_leaf_size = config->max_leaf_size;
+  if (config->sah_bins > 0) s->sah.bins = config->sah_bins;
+  if (config->traversal_cost > 0) s->sah.traversal_cost = config->traversal_cost;
+
+  /* Kernels compile before the clock starts: compile time is reported apart. */
+  lt_status status = ctx->kind == LT_DEVICE_OPENCL ? lt__opencl_program(ctx) : LT_OK;
+  if (!status && config->kind == LT_STRUCTURE_LBVH) {
+    double start = lt_now_ms();
+    s->host_built = 1;
+    status = lt__bvh_build_lbvh(scene->tris, scene->count, &s->sah, &s->bvh);
+    if (!status && ctx->kind == LT_DEVICE_OPENCL) status = upload(s);
+    lt__stats_add(stats, LT_STAT_BUILD_MS, lt_now_ms() - start);
+    lt__stats_add(stats, LT_STAT_SORT_OPS, (double)s->bvh.sort_ops);
+  } else if (!status) {
+    status = with_retry(s, stats, start_ondemand(s, stats));
+  }
+  if (status) {
+    lt_structure_destroy(s);
+    return status;
+  }
+  if (stats) put_build_stats(s, stats);
   *out = s;
   return LT_OK;
 }
@@ -113,6 +174,7 @@ void lt_structure_destroy(lt_structure *s) {
   if (!s) return;
   if (s->nodes) clReleaseMemObject(s->nodes);
   if (s->tris) clReleaseMemObject(s->tris);
+  if (s->od_live) lt__ondemand_release(&s->od);
   lt__bvh_free(&s->bvh);
   free(s);
 }
@@ -179,6 +241,36 @@ static lt_status trace_native(lt_structure *s, const lt_ray *rays, int count, in
   return status;
 }
 
+/* On demand: one launch builds what the rays need while tracing them (time to image); with
+ * statistics asked for, a second launch traces the same rays on the tree as built, which is
+ * the trace time, and build time is the difference (the paper's convention). */
+static lt_status trace_ondemand(lt_structure *s, const lt_ray *rays, int count, int any, lt_hit *hits,
+                                lt_stats *stats) {
+  int speculate = s->config.build == LT_BUILD_SPECULATIVE;
+  double start = lt_now_ms();
+  lt_status status = lt__ondemand_launch(&s->od, rays, count, any, hits, speculate, stats);
+  while (status == LT_ERROR_CAPACITY && s->pool_capacity < MAX_POOL) {
+    status = with_retry(s, stats, status);
+    start = lt_now_ms();
+    if (!status) status = lt__ondemand_launch(&s->od, rays, count, any, hits, speculate, stats);
+  }
+  double total = lt_now_ms() - start;
+  if (status || !stats) return status;
+  if (s->config.build == LT_BUILD_FULL) {
+    lt__stats_add(stats, LT_STAT_TRACE_MS, total);
+  } else {
+    lt_stats *again;
+    if ((status = lt_stats_create(&again))) return status;
+    double retrace_start = lt_now_ms();
+    status = lt__ondemand_launch(&s->od, rays, count, any, hits, 0, again);
+    double trace = lt_now_ms() - retrace_start;
+    lt_stats_destroy(again);
+    lt__stats_add(stats, LT_STAT_TRACE_MS, trace);
+    lt__stats_add(stats, LT_STAT_BUILD_MS, total > trace ? total - trace : 0.0);
+  }
+  return status;
+}
+
 lt_status lt_structure_trace(lt_structure *s, const lt_ray *rays, size_t count, int query, lt_hit *hits,
                              lt_stats *stats) {
   if (!s || (count && (!rays || !hits))) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_structure_trace: NULL argument");
@@ -187,19 +279,26 @@ lt_status lt_structure_trace(lt_structure *s, const lt_ray *rays, size_t count, 
   if (count > (size_t)INT32_MAX / 8) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "%zu rays in one batch is too many", count);
   if (count == 0) return LT_OK;
 
-  double start = lt_now_ms();
   uint64_t steps = 0, tests = 0;
-  lt_status status = s->ctx->kind == LT_DEVICE_OPENCL
-                         ? trace_opencl(s, rays, (int)count, query == LT_QUERY_ANY, hits, &steps, &tests)
-                         : trace_native(s, rays, (int)count, query == LT_QUERY_ANY, hits, &steps, &tests);
-  double trace_ms = lt_now_ms() - start;
+  lt_status status;
+  if (s->host_built) {
+    double start = lt_now_ms();
+    status = s->ctx->kind == LT_DEVICE_OPENCL
+                 ? trace_opencl(s, rays, (int)count, query == LT_QUERY_ANY, hits, &steps, &tests)
+                 : trace_native(s, rays, (int)count, query == LT_QUERY_ANY, hits, &steps, &tests);
+    if (!status) {
+      lt__stats_add(stats, LT_STAT_TRACE_MS, lt_now_ms() - start);
+      lt__stats_add(stats, LT_STAT_TRAVERSAL_STEPS, (double)steps);
+      lt__stats_add(stats, LT_STAT_INTERSECTIONS, (double)tests);
+    }
+  } else {
+    status = trace_ondemand(s, rays, (int)count, query == LT_QUERY_ANY, hits, stats);
+  }
   if (!status && stats) {
     lt__stats_add(stats, LT_STAT_RAYS, (double)count);
-    lt__stats_add(stats, LT_STAT_TRACE_MS, trace_ms);
-    lt__stats_add(stats, LT_STAT_TRAVERSAL_STEPS, (double)steps);
-    lt__stats_add(stats, LT_STAT_INTERSECTIONS, (double)tests);
     double build = lt_stats_get(stats, "build_ms");
     lt__stats_put(stats, LT_STAT_TOTAL_MS, (build > 0 ? build : 0) + lt_stats_get(stats, "trace_ms"));
+    put_build_stats(s, stats);
   }
   return status;
 }

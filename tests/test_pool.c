@@ -66,7 +66,7 @@ static void pool_header_states_and_transitions(void **state) {
   assert_false(lt_pool_finish_chunk(&h->pool, slot));
   assert_false(lt_pool_finish_chunk(&h->pool, slot));
   assert_true(lt_pool_finish_chunk(&h->pool, slot));
-  lt_pool_next_phase(&h->pool, slot, 2);
+  lt_pool_next_phase(&h->pool, slot, 1, 2);
   assert_int_equal(h->headers[slot], 2);
   assert_int_equal(h->tasks[slot].phase, 1);
   assert_int_equal(lt_pool_take(&h->pool, &chunk), slot);

@@ -41,31 +41,31 @@ LT_DEVICE int lt_bvh_traverse(const lt_ray_setup *r, LT_GLOBAL const lt_bvh_node
     float lo_l[3] = {n.left_xy.x, n.left_xy.z, n.lr_z.x}, hi_l[3] = {n.left_xy.y, n.left_xy.w, n.lr_z.y};
     float lo_r[3] = {n.right_xy.x, n.right_xy.z, n.lr_z.z}, hi_r[3] = {n.right_xy.y, n.right_xy.w, n.lr_z.w};
     float t_l = 0.0f, t_r = 0.0f;
-    int hit_l = (n.link.z > 0 || n.link.x >= 0) && lt_ray_box(r, lo_l, hi_l, best, &t_l);
-    int hit_r = (n.link.w > 0 || n.link.y >= 0) && lt_ray_box(r, lo_r, hi_r, best, &t_r);
+    int hit_l = (n.link[2] > 0 || n.link[0] >= 0) && lt_ray_box(r, lo_l, hi_l, best, &t_l);
+    int hit_r = (n.link[3] > 0 || n.link[1] >= 0) && lt_ray_box(r, lo_r, hi_r, best, &t_r);
 
     /* Leaves are intersected right away; only inner children go on. */
-    if (hit_l && n.link.z > 0) {
-      lt_leaf_intersect(r, tris, n.link.x, n.link.z, hit, counters);
+    if (hit_l && n.link[2] > 0) {
+      lt_leaf_intersect(r, tris, n.link[0], n.link[2], hit, counters);
       hit_l = 0;
     }
-    if (hit_r && n.link.w > 0) {
-      lt_leaf_intersect(r, tris, n.link.y, n.link.w, hit, counters);
+    if (hit_r && n.link[3] > 0) {
+      lt_leaf_intersect(r, tris, n.link[1], n.link[3], hit, counters);
       hit_r = 0;
     }
     if (any_hit && hit->prim >= 0) return 0;
 
     /* Descend into the nearer inner child and keep the farther one for later. */
     if (hit_l && hit_r) {
-      int near_child = t_l <= t_r ? n.link.x : n.link.y;
-      int far_child = t_l <= t_r ? n.link.y : n.link.x;
+      int near_child = t_l <= t_r ? n.link[0] : n.link[1];
+      int far_child = t_l <= t_r ? n.link[1] : n.link[0];
       if (sp == LT_BVH_STACK_SIZE) return -1;
       stack[sp++] = far_child;
       node = near_child;
     } else if (hit_l) {
-      node = n.link.x;
+      node = n.link[0];
     } else if (hit_r) {
-      node = n.link.y;
+      node = n.link[1];
     } else {
       node = sp > 0 ? stack[--sp] : -1;
     }

@@ -1,0 +1,365 @@
+/* BVH node subdivision as task-pool tasks: the on-demand paper (Vinkler et al. 2016), section
+ * 3.4. A task subdivides the node behind one child link: binned SAH split (chunked, bins merged
+ * in a global slab), stable partition (count, scatter, copy back), bounding boxes when SAH
+ * finds no split and the object median is used; then it writes the new node, inserts tasks for
+ * its children and links the node into its parent. Nodes small enough for one chunk do all of
+ * that in one go. The same code makes full, requested and speculative builds. */
+#ifndef LT_BVH_TASK_H
+#define LT_BVH_TASK_H
+
+#include "builders/sah_bins.h"
+#include "kernels/pool.h"
+#include "kernels/shared_types.h"
+
+#define LT_BVH_CHUNK 2048  /* primitives per work chunk */
+#define LT_BVH_SLAB_SIZE LT_BINS_SIZE
+
+/* An unbuilt child link holds its task's slot: link = -2 - slot (count 0). */
+#define LT_LINK_UNBUILT(slot) (-2 - (slot))
+
+/* Phases. */
+#define LT_BVH_SMALL 0   /* one chunk does everything */
+#define LT_BVH_INIT 1    /* take a bin slab */
+#define LT_BVH_BIN 2     /* chunks bin into the slab */
+#define LT_BVH_COUNT 3   /* chunks count their left-hand primitives */
+#define LT_BVH_SCATTER 4 /* chunks write both sides in order */
+#define LT_BVH_COPY 5    /* chunks copy back */
+#define LT_BVH_BOXES 6   /* object median: chunks bound both halves */
+
+/* Task data (lt_task.work). */
+#define W_CBOUNDS 0 /* 6 floats: centroid bounds */
+#define W_BOUNDS 6  /* 6 floats: node bounds */
+#define W_SLAB 12
+#define W_SPLIT 13  /* axis * 64 + bin, or -1 for the object median */
+#define W_LEFT 14   /* primitives going left */
+
+/* Per-work-group build counters (besides the pool's). */
+#define LT_BVH_STAT_LEAVES 0
+#define LT_BVH_STAT_SORT_OPS 1
+#define LT_BVH_STAT_STEPS 2
+#define LT_BVH_STAT_TESTS 3
+#define LT_BVH_STAT_COUNT 4
+
+typedef struct lt_bvh_build {
+  lt_pool pool;
+  LT_GLOBAL const lt_tri *tris;  /* in scene order */
+  LT_GLOBAL lt_i32 *index;       /* primitive references, permuted into leaf order */
+  LT_GLOBAL lt_i32 *scratch;     /* room for the partition */
+  LT_GLOBAL lt_i32 *chunk_left;  /* at each chunk's first position: its left-hand count */
+  LT_GLOBAL lt_bvh_node *nodes;
+  LT_GLOBAL lt_i32 *slabs;       /* slab_count bin slabs */
+  LT_GLOBAL lt_i32 *slab_used;
+  LT_GLOBAL lt_u32 *counters;    /* LT_BVH_STAT_COUNT per work-group */
+  lt_i32 slab_count, node_capacity, max_leaf, bins;
+  float traversal_cost, intersection_cost;
+} lt_bvh_build;
+
+LT_DEVICE void lt_bvh_count(const lt_bvh_build *b, int stat, lt_u32 n) {
+  lt_atomic_add_u32(&b->counters[lt_group_id() * LT_BVH_STAT_COUNT + stat], n);
+}
+
+LT_DEVICE void lt_prim_bounds(const lt_bvh_build *b, lt_i32 prim, lt_box *box, float centroid[3]) {
+  lt_tri t = b->tris[prim];
+  float v[9] = {t.v0.x, t.v0.y, t.v0.z, t.v1.x, t.v1.y, t.v1.z, t.v2.x, t.v2.y, t.v2.z};
+  lt_tri_bounds(v, box, centroid);
+}
+
+LT_DEVICE void lt_store_box(LT_GLOBAL lt_i32 *w, const lt_box *box) {
+  for (int k = 0; k < 3; k++) w[k] = lt_float_as_int(box->lo[k]), w[3 + k] = lt_float_as_int(box->hi[k]);
+}
+LT_DEVICE lt_box lt_load_box(LT_GLOBAL const lt_i32 *w) {
+  lt_box box;
+  for (int k = 0; k < 3; k++) box.lo[k] = lt_int_as_float(w[k]), box.hi[k] = lt_int_as_float(w[3 + k]);
+  return box;
+}
+
+/* Writes one child of a node: its box and its link (already final or still unbuilt). */
+LT_DEVICE void lt_bvh_set_child(LT_GLOBAL lt_bvh_node *node, int side, const lt_box *x, lt_i32 link, lt_i32 count) {
+  if (side == 0) {
+    node->left_xy = lt_make_float4(x->lo[0], x->hi[0], x->lo[1], x->hi[1]);
+    node->lr_z.x = x->lo[2], node->lr_z.y = x->hi[2];
+    lt_atomic_store_i32(&node->link[2], count);
+    lt_atomic_store_i32(&node->link[0], link);
+  } else {
+    node->right_xy = lt_make_float4(x->lo[0], x->hi[0], x->lo[1], x->hi[1]);
+    node->lr_z.z = x->lo[2], node->lr_z.w = x->hi[2];
+    lt_atomic_store_i32(&node->link[3], count);
+    lt_atomic_store_i32(&node->link[1], link);
+  }
+}
+
+/* Replaces the unbuilt link at `address` (node * 2 + side): the count first, then the link,
+ * so that a traversal reading the link and then the count never sees half of it. */
+LT_DEVICE void lt_bvh_link(const lt_bvh_build *b, lt_i32 address, lt_i32 link, lt_i32 count) {
+  LT_GLOBAL lt_bvh_node *node = &b->nodes[address >> 1];
+  LT_GLOBAL lt_i32 *link_field = (address & 1) ? &node->link[1] : &node->link[0];
+  LT_GLOBAL lt_i32 *count_field = (address & 1) ? &node->link[3] : &node->link[2];
+  if (count > 0) lt_atomic_store_i32(count_field, count);
+  lt_fence();
+  lt_atomic_store_i32(link_field, link);
+}
+
+/* Inserts the task that will build child `side` of node `node` over [begin, end). */
+LT_DEVICE void lt_bvh_spawn(const lt_bvh_build *b, lt_i32 node, int side, lt_i32 begin, lt_i32 end, lt_i32 depth,
+                            const lt_box *bounds, const lt_box *cbounds) {
+  LT_GLOBAL lt_bvh_node *n = &b->nodes[node];
+  lt_i32 count = end - begin;
+  if (count == 1) {
+    lt_bvh_set_child(n, side, bounds, begin, 1);
+    lt_bvh_count(b, LT_BVH_STAT_LEAVES, 1);
+    return;
+  }
+  lt_i32 slot = lt_pool_insert(&b->pool, node * 2 + side, begin, end, depth, 1); /* SMALL or INIT: one chunk */
+  if (slot < 0) {
+    lt_bvh_set_child(n, side, bounds, -1, 0);
+    return;
+  }
+  LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
+  task->phase = count <= LT_BVH_CHUNK ? LT_BVH_SMALL : LT_BVH_INIT;
+  lt_store_box(task->work + W_CBOUNDS, cbounds);
+  lt_store_box(task->work + W_BOUNDS, bounds);
+  lt_bvh_set_child(n, side, bounds, LT_LINK_UNBUILT(slot), 0);
+  lt_pool_publish(&b->pool, slot);
+}
+
+/* The task's node is split at left_end: make the node, its children, and link it in. */
+LT_DEVICE void lt_bvh_finish_split(const lt_bvh_build *b, lt_i32 slot, lt_i32 left_end, const lt_box *left,
+                                   const lt_box *right, const lt_box *cleft, const lt_box *cright) {
+  LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
+  lt_i32 node = lt_atomic_add_i32(&b->pool.control->nodes_next, 1);
+  if (node >= b->node_capacity) {
+    lt_pool_fail(&b->pool, LT_POOL_ERROR_NODES);
+    return;
+  }
+  lt_bvh_spawn(b, node, 0, task->begin, left_end, task->depth + 1, left, cleft);
+  lt_bvh_spawn(b, node, 1, left_end, task->end, task->depth + 1, right, cright);
+  lt_bvh_link(b, lt_atomic_load_i32(&task->node), node, 0);
+  lt_pool_retire(&b->pool, slot);
+}
+
+LT_DEVICE void lt_bvh_finish_leaf(const lt_bvh_build *b, lt_i32 slot) {
+  LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
+  lt_bvh_count(b, LT_BVH_STAT_LEAVES, 1);
+  lt_bvh_link(b, lt_atomic_load_i32(&task->node), task->begin, task->end - task->begin);
+  lt_pool_retire(&b->pool, slot);
+}
+
+/* Bins the primitives index[lo, hi) into private bins. */
+LT_DEVICE void lt_bvh_bin_range(const lt_bvh_build *b, lt_i32 lo, lt_i32 hi, lt_i32 step, const lt_box *cbounds,
+                                lt_i32 *bins) {
+  float scale[3];
+  lt_bin_scale(cbounds, b->bins, scale);
+  for (lt_i32 i = lo; i < hi; i += step) {
+    lt_box box;
+    float c[3];
+    lt_prim_bounds(b, b->index[i], &box, c);
+    lt_bins_add(bins, cbounds, scale, b->bins, &box, c);
+  }
+}
+
+/* Whether primitive p goes left of split code (axis * 64 + bin). */
+LT_DEVICE int lt_bvh_goes_left(const lt_bvh_build *b, lt_i32 p, lt_i32 split, const lt_box *cbounds) {
+  float scale[3], c[3];
+  lt_box box;
+  lt_bin_scale(cbounds, b->bins, scale);
+  lt_prim_bounds(b, p, &box, c);
+  int axis = split >> 6;
+  return lt_bin_of(c[axis], cbounds->lo[axis], scale[axis], b->bins) <= (split & 63);
+}
+
+/* Bounds and centroid bounds of index[lo, hi). */
+LT_DEVICE void lt_bvh_bound_range(const lt_bvh_build *b, lt_i32 lo, lt_i32 hi, lt_box *box, lt_box *cbox) {
+  *box = *cbox = lt_box_empty();
+  for (lt_i32 i = lo; i < hi; i++) {
+    lt_box pb;
+    float c[3];
+    lt_prim_bounds(b, b->index[i], &pb, c);
+    lt_box cb = {{c[0], c[1], c[2]}, {c[0], c[1], c[2]}};
+    lt_box_grow(box, &pb);
+    lt_box_grow(cbox, &cb);
+  }
+}
+
+/* A whole node in one chunk (work-item 0): bin, decide, partition in order, children. */
+LT_DEVICE void lt_bvh_small(const lt_bvh_build *b, lt_i32 slot) {
+  LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
+  lt_i32 begin = task->begin, end = task->end, n = end - begin;
+  lt_box bounds = lt_load_box(task->work + W_BOUNDS), cbounds = lt_load_box(task->work + W_CBOUNDS);
+  lt_i32 bins[LT_BINS_SIZE];
+  lt_bins_clear(bins);
+  lt_bvh_bin_range(b, begin, end, 1, &cbounds, bins);
+  lt_split s = lt_sah_best_split(bins, b->bins, &bounds, b->traversal_cost, b->intersection_cost);
+  lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)n);
+  if (lt_sah_make_leaf(n, task->depth, &s, b->max_leaf, b->intersection_cost, LT_BVH_MAX_DEPTH)) {
+    lt_bvh_finish_leaf(b, slot);
+    return;
+  }
+
+  /* Object median when SAH found no split: the halves keep their order. */
+  if (s.axis < 0) {
+    lt_i32 mid = begin + n / 2;
+    lt_bvh_bound_range(b, begin, mid, &s.left, &s.cleft);
+    lt_bvh_bound_range(b, mid, end, &s.right, &s.cright);
+    lt_bvh_finish_split(b, slot, mid, &s.left, &s.right, &s.cleft, &s.cright);
+    return;
+  }
+
+  /* Stable partition through the scratch array. */
+  lt_i32 split = s.axis * 64 + s.bin, left = begin, right = begin + s.left_count;
+  for (lt_i32 i = begin; i < end; i++) {
+    lt_i32 p = b->index[i];
+    if (lt_bvh_goes_left(b, p, split, &cbounds)) b->scratch[left++] = p;
+    else b->scratch[right++] = p;
+  }
+  for (lt_i32 i = begin; i < end; i++) b->index[i] = b->scratch[i];
+  lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)n);
+  lt_bvh_finish_split(b, slot, begin + s.left_count, &s.left, &s.right, &s.cleft, &s.cright);
+}
+
+/* Takes a free bin slab, or returns -1 when all are in use. */
+LT_DEVICE lt_i32 lt_bvh_take_slab(const lt_bvh_build *b) {
+  for (lt_i32 i = 0; i < b->slab_count; i++)
+    if (lt_atomic_cas_i32(&b->slab_used[i], 0, 1) == 0) return i;
+  return -1;
+}
+
+/* One chunk of the current phase. Work-items share BIN and COPY; the others run on item 0. */
+LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, int lid, int lsize) {
+  LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
+  lt_i32 begin = task->begin, end = task->end, phase = task->phase;
+  lt_i32 lo = begin + chunk * LT_BVH_CHUNK, hi = lo + LT_BVH_CHUNK < end ? lo + LT_BVH_CHUNK : end;
+  lt_box cbounds = lt_load_box(task->work + W_CBOUNDS);
+  LT_GLOBAL lt_i32 *slab = b->slabs + (lt_i32)task->work[W_SLAB] * LT_BVH_SLAB_SIZE;
+
+  if (phase == LT_BVH_BIN) {
+    lt_i32 bins[LT_BINS_SIZE];
+    lt_bins_clear(bins);
+    lt_bvh_bin_range(b, lo + lid, hi, lsize, &cbounds, bins);
+    lt_bins_merge_global(slab, bins);
+    return;
+  }
+  if (phase == LT_BVH_COPY) {
+    for (lt_i32 i = lo + lid; i < hi; i += lsize) b->index[i] = b->scratch[i];
+    return;
+  }
+  /* SMALL and INIT have one chunk, whose work lt_bvh_end_phase does: a chunk must never
+   * retire its own task, because its finisher still counts the chunk done afterwards. */
+  if (lid != 0 || phase == LT_BVH_SMALL || phase == LT_BVH_INIT) return;
+  if (phase == LT_BVH_COUNT) {
+    lt_i32 split = task->work[W_SPLIT], left = 0;
+    for (lt_i32 i = lo; i < hi; i++) left += lt_bvh_goes_left(b, b->index[i], split, &cbounds);
+    b->chunk_left[lo] = left;
+  } else if (phase == LT_BVH_SCATTER) {
+    /* This chunk's place: the left-hand counts of the chunks before it, in order. */
+    lt_i32 split = task->work[W_SPLIT], left = begin, right = begin + task->work[W_LEFT];
+    for (lt_i32 c = 0; c < chunk; c++) {
+      lt_i32 l = b->chunk_left[begin + c * LT_BVH_CHUNK];
+      left += l, right += LT_BVH_CHUNK - l;
+    }
+    for (lt_i32 i = lo; i < hi; i++) {
+      lt_i32 p = b->index[i];
+      if (lt_bvh_goes_left(b, p, split, &cbounds)) b->scratch[left++] = p;
+      else b->scratch[right++] = p;
+    }
+  } else if (phase == LT_BVH_BOXES) {
+    /* Both halves of the object median, merged into the slab's first four boxes. */
+    lt_i32 mid = begin + task->work[W_LEFT];
+    lt_box box[2], cbox[2];
+    lt_bvh_bound_range(b, lo, hi < mid ? hi : mid, &box[0], &cbox[0]);
+    lt_bvh_bound_range(b, lo > mid ? lo : mid, hi, &box[1], &cbox[1]);
+    for (int side = 0; side < 2; side++)
+      for (int k = 0; k < 3; k++) {
+        lt_atomic_min_i32(&slab[12 * side + k], lt_ordered(box[side].lo[k]));
+        lt_atomic_max_i32(&slab[12 * side + 3 + k], lt_ordered(box[side].hi[k]));
+        lt_atomic_min_i32(&slab[12 * side + 6 + k], lt_ordered(cbox[side].lo[k]));
+        lt_atomic_max_i32(&slab[12 * side + 9 + k], lt_ordered(cbox[side].hi[k]));
+      }
+  }
+}
+
+/* Reads box `i` of the slab's summary (stored by lt_bvh_end_phase or BOXES). */
+LT_DEVICE lt_box lt_slab_box(LT_GLOBAL const lt_i32 *slab, int i) {
+  lt_box box;
+  for (int k = 0; k < 3; k++) box.lo[k] = lt_unordered(slab[6 * i + k]), box.hi[k] = lt_unordered(slab[6 * i + 3 + k]);
+  return box;
+}
+
+LT_DEVICE void lt_slab_put_box(LT_GLOBAL lt_i32 *slab, int i, const lt_box *box) {
+  for (int k = 0; k < 3; k++) slab[6 * i + k] = lt_ordered(box->lo[k]), slab[6 * i + 3 + k] = lt_ordered(box->hi[k]);
+}
+
+LT_DEVICE void lt_bvh_release_slab(const lt_bvh_build *b, LT_GLOBAL lt_task *task) {
+  lt_fence();
+  lt_atomic_store_i32(&b->slab_used[task->work[W_SLAB]], 0);
+}
+
+/* Called by the work-group that finished the last chunk of a phase (work-item 0). */
+LT_DEVICE void lt_bvh_end_phase(const lt_bvh_build *b, lt_i32 slot) {
+  LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
+  lt_i32 begin = task->begin, end = task->end, n = end - begin, phase = task->phase;
+  lt_i32 chunks = (n + LT_BVH_CHUNK - 1) / LT_BVH_CHUNK;
+  if (phase == LT_BVH_SMALL) {
+    lt_bvh_small(b, slot);
+    return;
+  }
+
+  /* A cleared slab for the bins; without one, the node is built here in one go. */
+  if (phase == LT_BVH_INIT) {
+    lt_i32 s = lt_bvh_take_slab(b);
+    task->work[W_SLAB] = s;
+    if (s < 0) {
+      lt_bvh_small(b, slot);
+      return;
+    }
+    lt_i32 bins[LT_BINS_SIZE];
+    lt_bins_clear(bins);
+    LT_GLOBAL lt_i32 *fresh = b->slabs + s * LT_BVH_SLAB_SIZE;
+    for (int i = 0; i < LT_BINS_SIZE; i++) lt_atomic_store_i32(&fresh[i], bins[i]);
+    lt_pool_next_phase(&b->pool, slot, LT_BVH_BIN, chunks);
+    return;
+  }
+  LT_GLOBAL lt_i32 *slab = b->slabs + task->work[W_SLAB] * LT_BVH_SLAB_SIZE;
+
+  if (phase == LT_BVH_BIN) {
+    /* Price the splits from the merged bins; keep the outcome in the slab. */
+    lt_i32 bins[LT_BINS_SIZE];
+    for (int i = 0; i < LT_BINS_SIZE; i++) bins[i] = lt_atomic_load_i32(&slab[i]);
+    lt_box bounds = lt_load_box(task->work + W_BOUNDS);
+    lt_split s = lt_sah_best_split(bins, b->bins, &bounds, b->traversal_cost, b->intersection_cost);
+    lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)n);
+    if (lt_sah_make_leaf(n, task->depth, &s, b->max_leaf, b->intersection_cost, LT_BVH_MAX_DEPTH)) {
+      lt_bvh_release_slab(b, task);
+      lt_bvh_finish_leaf(b, slot);
+      return;
+    }
+
+    /* Object median: the halves keep their order; the next phase bounds them. */
+    if (s.axis < 0) {
+      lt_box empty = lt_box_empty();
+      for (int i = 0; i < 4; i++) lt_slab_put_box(slab, i, &empty);
+      task->work[W_SPLIT] = -1;
+      task->work[W_LEFT] = n / 2;
+      lt_pool_next_phase(&b->pool, slot, LT_BVH_BOXES, chunks);
+      return;
+    }
+    lt_slab_put_box(slab, 0, &s.left), lt_slab_put_box(slab, 1, &s.cleft);
+    lt_slab_put_box(slab, 2, &s.right), lt_slab_put_box(slab, 3, &s.cright);
+    task->work[W_SPLIT] = s.axis * 64 + s.bin;
+    task->work[W_LEFT] = s.left_count;
+    lt_pool_next_phase(&b->pool, slot, LT_BVH_COUNT, chunks);
+  } else if (phase == LT_BVH_COUNT) {
+    lt_pool_next_phase(&b->pool, slot, LT_BVH_SCATTER, chunks);
+  } else if (phase == LT_BVH_SCATTER) {
+    lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)n);
+    lt_pool_next_phase(&b->pool, slot, LT_BVH_COPY, chunks);
+  } else {
+    /* COPY or BOXES done: the children's boxes are in the slab. */
+    lt_box left = lt_slab_box(slab, 0), cleft = lt_slab_box(slab, 1);
+    lt_box right = lt_slab_box(slab, 2), cright = lt_slab_box(slab, 3);
+    lt_i32 left_end = begin + task->work[W_LEFT];
+    lt_bvh_release_slab(b, task);
+    lt_bvh_finish_split(b, slot, left_end, &left, &right, &cleft, &cright);
+  }
+}
+
+#endif

@@ -1,0 +1,111 @@
+/* The persistent loop of the on-demand BVH (the on-demand paper, Algorithm 1): every
+ * work-group traces rays and, when one of its rays waits for an unbuilt node (or it has no
+ * rays left), builds nodes from the task pool; a restart re-checks the waiting rays after each
+ * chunk and after each search that found nothing. Barriers sit in straight-line code only (see
+ * kernels/lazy_sort.h for why). */
+#ifndef LT_KERNEL_BVH_ONDEMAND_H
+#define LT_KERNEL_BVH_ONDEMAND_H
+
+#include "traversal/bvh_ondemand.h"
+
+#ifndef LT_MAX_LOCAL_SIZE
+#define LT_MAX_LOCAL_SIZE 256
+#endif
+
+typedef struct lt_od_trace_args {
+  lt_bvh_build build;
+  LT_GLOBAL const float *rays; /* 8 floats a ray */
+  LT_GLOBAL lt_hit_record *hits;
+  lt_i32 ray_count, any_hit;
+  lt_i32 max_idle_polls;
+  lt_i32 speculate; /* whether work-groups out of rays build what nobody asked for */
+} lt_od_trace_args;
+
+typedef struct lt_od_shared {
+  lt_i32 slot, chunk, batch, quit;
+  lt_i32 pending[LT_MAX_LOCAL_SIZE];
+} lt_od_shared;
+
+LT_DEVICE void lt_od_finish_ray(const lt_od_trace_args *a, lt_i32 i, lt_od_ray *q) {
+  lt_hit_record hit = q->hit;
+  if (hit.prim < 0) hit.t = INFINITY, hit.u = hit.v = 0.0f;
+  a->hits[i] = hit;
+}
+
+LT_DEVICE void lt_od_run(const lt_od_trace_args *a, LT_LOCAL lt_od_shared *sh) {
+  int lid = lt_local_id(), lsize = lt_local_size();
+  const lt_bvh_build *b = &a->build;
+  const lt_pool *pool = &b->pool;
+  lt_od_ray q;
+  q.r = lt_ray_prepare(0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f);
+  q.hit.t = q.hit.u = q.hit.v = 0.0f, q.hit.prim = -1, q.sp = 0, q.cur = -1, q.wait = -1;
+  lt_trace_counters c = {0, 0};
+  lt_i32 item = -1;
+  int gave_up = 0, running = 1;
+  lt_i32 idle = 0, last_progress = -1;
+  while (running) {
+    /* Trace (or restart) this work-item's ray. */
+    if (item >= 0 && lt_od_trace(b, &q, a->any_hit, &c)) {
+      lt_od_finish_ray(a, item, &q);
+      item = -1;
+    }
+    sh->pending[lid] = item >= 0;
+    lt_barrier();
+
+    /* Work-item 0 decides for the group: new rays, building, or quitting. */
+    if (lid == 0) {
+      int waiting = 0;
+      for (int l = 0; l < lsize; l++) waiting |= sh->pending[l];
+      sh->batch = -1, sh->quit = 0, sh->slot = -1, sh->chunk = -1;
+      if (!waiting && !gave_up) {
+        lt_i32 first = lt_atomic_add_i32(&pool->control->work_next, lsize);
+        if (first < a->ray_count) {
+          sh->batch = first;
+          lt_atomic_add_i32(&pool->control->progress, 1);
+        } else {
+          gave_up = 1;
+          lt_atomic_add_i32(&pool->control->termination, -1);
+        }
+      }
+      if (sh->batch < 0) {
+        if (gave_up && lt_pool_may_quit(pool)) {
+          sh->quit = 1;
+        } else if (waiting || a->speculate || pool->mode == LT_POOL_FULL) {
+          lt_i32 chunk = -1;
+          sh->slot = lt_pool_take(pool, &chunk);
+          sh->chunk = chunk;
+        }
+      }
+
+      /* A search that found nothing while nothing moved anywhere counts towards the cap. */
+      if (sh->batch < 0 && sh->slot < 0 && !sh->quit) {
+        lt_pool_count(pool, LT_POOL_STAT_IDLE, 1);
+        lt_i32 progress = lt_atomic_load_i32(&pool->control->progress);
+        idle = progress == last_progress ? idle + 1 : 0;
+        last_progress = progress;
+        if (idle > a->max_idle_polls) lt_pool_fail(pool, LT_POOL_ERROR_STALL);
+      }
+      if (lt_atomic_load_i32(&pool->control->error) != LT_POOL_OK) sh->quit = 1;
+    }
+    lt_barrier();
+    running = !sh->quit;
+    lt_i32 batch = sh->batch, slot = sh->slot, chunk = sh->chunk;
+
+    /* New rays: one a work-item, traced at the top of the loop. */
+    if (running && batch >= 0) {
+      item = batch + lid < a->ray_count ? batch + lid : -1;
+      if (item >= 0) lt_od_start(&q, a->rays + 8 * (long)item);
+    }
+
+    /* Building: the group works the chunk together; work-item 0 finishes it. */
+    int building = running && batch < 0 && slot >= 0;
+    if (building) lt_bvh_chunk(b, slot, chunk, lid, lsize);
+    lt_barrier();
+    if (building && lid == 0 && lt_pool_finish_chunk(pool, slot)) lt_bvh_end_phase(b, slot);
+    lt_barrier();
+  }
+  lt_bvh_count(b, LT_BVH_STAT_STEPS, c.traversal_steps);
+  lt_bvh_count(b, LT_BVH_STAT_TESTS, c.intersections);
+}
+
+#endif

@@ -1,0 +1,222 @@
+/* The host half of the on-demand BVH (see ondemand_internal.h). */
+#include <stdlib.h>
+#include <string.h>
+
+#include "builders/bvh_task.h"
+#include "kernels/bvh_ondemand.h"
+#include "kernels/native_kernels.h"
+#include "runtime/error.h"
+#include "runtime/ondemand_internal.h"
+#include "runtime/stats_internal.h"
+#include "scenes/scene_internal.h"
+
+#define SLABS 64
+
+/* The triangles in scene order with their numbers, and the root's bounds. */
+static lt_tri *pack_triangles(const lt_scene *scene, lt_box *bounds, lt_box *cbounds) {
+  lt_tri *tris = malloc(scene->count * sizeof *tris);
+  *bounds = *cbounds = lt_box_empty();
+  for (size_t i = 0; tris && i < scene->count; i++) {
+    const float *t = scene->tris + 9 * i;
+    tris[i].v0 = lt_make_float4(t[0], t[1], t[2], lt_int_as_float((int)i));
+    tris[i].v1 = lt_make_float4(t[3], t[4], t[5], 0.0f);
+    tris[i].v2 = lt_make_float4(t[6], t[7], t[8], 0.0f);
+    lt_box box;
+    float c[3];
+    lt_tri_bounds(t, &box, c);
+    lt_box cb = {{c[0], c[1], c[2]}, {c[0], c[1], c[2]}};
+    lt_box_grow(bounds, &box);
+    lt_box_grow(cbounds, &cb);
+  }
+  return tris;
+}
+
+static lt_status warm_up(lt__ondemand *od);
+
+lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__sah_config *sah, int mode,
+                              int pool_capacity, int node_capacity, lt__ondemand *od) {
+  memset(od, 0, sizeof *od);
+  od->ctx = ctx;
+  od->count = (int)scene->count;
+  od->node_capacity = node_capacity;
+  od->slab_count = SLABS;
+  od->sah = *sah;
+  if (sah->bins > LT_MAX_BINS) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "at most %d SAH bins", LT_MAX_BINS);
+  lt_box bounds, cbounds;
+  lt_tri *tris = pack_triangles(scene, &bounds, &cbounds);
+  int *index = malloc(scene->count * sizeof *index);
+  if (!tris || !index) {
+    free(tris), free(index);
+    return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for %zu triangles", scene->count);
+  }
+  for (int i = 0; i < od->count; i++) index[i] = i;
+
+  /* Device buffers: triangles, references, partition room, nodes, bin slabs, counters. */
+  lt_pool_config config = {pool_capacity, 0, 0, 0, 0};
+  size_t n = scene->count;
+  lt_status status = lt__pool_create(ctx, &config, mode, &od->pool);
+  if (!status) status = lt__buffer_create(ctx, &od->tris, n * sizeof(lt_tri), tris, 0);
+  if (!status) status = lt__buffer_create(ctx, &od->index, n * 4, index, 0);
+  if (!status) status = lt__buffer_create(ctx, &od->scratch, n * 4, NULL, 0);
+  if (!status) status = lt__buffer_create(ctx, &od->chunk_left, n * 4, NULL, 0);
+  if (!status) status = lt__buffer_create(ctx, &od->nodes, (size_t)node_capacity * sizeof(lt_bvh_node), NULL, 0);
+  if (!status) status = lt__buffer_create(ctx, &od->slabs, (size_t)SLABS * LT_BVH_SLAB_SIZE * 4, NULL, 0);
+  if (!status) status = lt__buffer_create(ctx, &od->slab_used, SLABS * 4, NULL, 0);
+  if (!status)
+    status = lt__buffer_create(ctx, &od->counters, (size_t)ctx->work_groups * LT_BVH_STAT_COUNT * 4, NULL, 0);
+  free(tris), free(index);
+
+  /* Node 0: the super-root; its left child is the scene's root, built by the task in slot 0
+   * (a single triangle is a leaf at once). */
+  lt_bvh_node root;
+  lt_box empty = lt_box_empty();
+  memset(&root, 0, sizeof root);
+  lt_bvh_set_child(&root, 0, &bounds, od->count == 1 ? 0 : LT_LINK_UNBUILT(0), od->count == 1 ? 1 : 0);
+  lt_bvh_set_child(&root, 1, &empty, -1, 0);
+  if (!status) status = lt__buffer_write(ctx, &od->nodes, 0, sizeof root, &root);
+  lt_pool_control control = {0};
+  control.nodes_next = 1;
+  if (!status) status = lt__buffer_write(ctx, &od->pool.control, 0, sizeof control, &control);
+  if (!status && od->count > 1) {
+    lt_task task = {0, od->count, 0, od->count <= LT_BVH_CHUNK ? LT_BVH_SMALL : LT_BVH_INIT, 1, 0, 0, 0, {0}};
+    for (int k = 0; k < 3; k++) {
+      task.work[W_CBOUNDS + k] = lt_float_as_int(cbounds.lo[k]);
+      task.work[W_CBOUNDS + 3 + k] = lt_float_as_int(cbounds.hi[k]);
+      task.work[W_BOUNDS + k] = lt_float_as_int(bounds.lo[k]);
+      task.work[W_BOUNDS + 3 + k] = lt_float_as_int(bounds.hi[k]);
+    }
+    status = lt__pool_insert_root(&od->pool, 0, 0, 0, od->count, 1);
+    if (!status) status = lt__buffer_write(ctx, &od->pool.tasks, 0, sizeof task, &task);
+  }
+  if (od->count == 1) od->leaves = 1;
+  if (!status && ctx->kind == LT_DEVICE_OPENCL && !ctx->ondemand_warm) {
+    status = warm_up(od);
+    ctx->ondemand_warm = 1;
+  }
+  if (status) lt__ondemand_release(od);
+  return status;
+}
+
+void lt__ondemand_release(lt__ondemand *od) {
+  lt__pool_release(&od->pool);
+  lt__buffer *buffers[] = {&od->tris, &od->index, &od->scratch, &od->chunk_left, &od->nodes, &od->slabs,
+                           &od->slab_used, &od->counters};
+  for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++) lt__buffer_release(buffers[i]);
+}
+
+/* Arguments after the pool's nine, in the order of lt_bvh_ondemand in kernels/bvh_ondemand.cl. */
+static lt_status launch_opencl(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, cl_int4 trace) {
+  lt_context *ctx = od->ctx;
+  cl_kernel k = ctx->ondemand_kernel;
+  cl_int4 sizes = {{od->slab_count, od->node_capacity, od->sah.max_leaf_size, od->sah.bins}};
+  cl_float2 costs = {{od->sah.traversal_cost, od->sah.intersection_cost}};
+  lt_status status = lt__pool_set_args(&od->pool, k);
+  if (status) return status;
+  lt__buffer *buffers[] = {&od->tris, &od->index, &od->scratch, &od->chunk_left, &od->nodes, &od->slabs,
+                           &od->slab_used, &od->counters};
+  cl_int err = CL_SUCCESS;
+  for (int i = 0; i < 8; i++) err |= clSetKernelArg(k, 9 + i, sizeof(cl_mem), &buffers[i]->mem);
+  err |= clSetKernelArg(k, 17, sizeof sizes, &sizes);
+  err |= clSetKernelArg(k, 18, sizeof costs, &costs);
+  err |= clSetKernelArg(k, 19, sizeof(cl_mem), &rays->mem);
+  err |= clSetKernelArg(k, 20, sizeof(cl_mem), &hits->mem);
+  err |= clSetKernelArg(k, 21, sizeof trace, &trace);
+  if ((status = lt__opencl_check(err, "setting on-demand kernel arguments"))) return status;
+
+  /* Exactly as many work-groups as run at once: persistent groups wait on each other. */
+  size_t local = (size_t)ctx->local_size, global = local * (size_t)ctx->work_groups;
+  err = clEnqueueNDRangeKernel(ctx->queue, k, 1, NULL, &global, &local, 0, NULL, NULL);
+  if (err == CL_SUCCESS) err = clFinish(ctx->queue);
+  return lt__opencl_check(err, "running the on-demand kernel");
+}
+
+static lt_status launch_native(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, cl_int4 trace) {
+  lt_od_trace_args a;
+  a.build = (lt_bvh_build){lt__pool_native_view(&od->pool), od->tris.host, od->index.host, od->scratch.host,
+                           od->chunk_left.host, od->nodes.host, od->slabs.host, od->slab_used.host,
+                           od->counters.host, od->slab_count, od->node_capacity, od->sah.max_leaf_size,
+                           od->sah.bins, od->sah.traversal_cost, od->sah.intersection_cost};
+  a.rays = rays->host, a.hits = hits->host;
+  a.ray_count = trace.s[0], a.any_hit = trace.s[1], a.max_idle_polls = trace.s[2], a.speculate = trace.s[3];
+  return lt__native_run(od->ctx->work_groups, lt__native_bvh_ondemand_kernel, &a);
+}
+
+/* PoCL compiles a kernel's work-group function at its first launch: one launch that quits at
+ * once (the control block says "error") moves that cost into the compile time. */
+static lt_status warm_up(lt__ondemand *od) {
+  lt_pool_control saved, stop;
+  lt__buffer none;
+  lt_status status = lt__buffer_read(od->ctx, &od->pool.control, 0, sizeof saved, &saved);
+  if (status) return status;
+  stop = saved;
+  stop.error = LT_POOL_ERROR_STALL;
+  double start = lt_now_ms();
+  status = lt__buffer_create(od->ctx, &none, 16, NULL, 0);
+  cl_int4 trace = {{0, 0, 1, 0}};
+  if (!status) status = lt__buffer_write(od->ctx, &od->pool.control, 0, sizeof stop, &stop);
+  if (!status) status = launch_opencl(od, &none, &none, trace);
+  lt__buffer_release(&none);
+  if (!status) status = lt__buffer_write(od->ctx, &od->pool.control, 0, sizeof saved, &saved);
+  od->ctx->compile_ms += lt_now_ms() - start;
+  return status;
+}
+
+lt_status lt__ondemand_launch(lt__ondemand *od, const lt_ray *rays, int count, int any_hit, lt_hit *hits,
+                              int speculate, lt_stats *stats) {
+  lt_context *ctx = od->ctx;
+  lt__buffer ray_buf, hit_buf;
+  lt_status status = lt__buffer_create(ctx, &ray_buf, (size_t)count * sizeof(lt_ray), rays, 0);
+  if (status) return status;
+  status = lt__buffer_create(ctx, &hit_buf, (size_t)count * sizeof(lt_hit), NULL, 0);
+  if (!status) status = lt__pool_begin_launch(&od->pool);
+  if (!status) status = lt__buffer_fill(ctx, &od->counters, 0);
+  cl_int4 trace = {{count, any_hit, od->pool.config.max_idle_polls, speculate}};
+  if (!status) status = ctx->kind == LT_DEVICE_NATIVE ? launch_native(od, &ray_buf, &hit_buf, trace)
+                                                      : launch_opencl(od, &ray_buf, &hit_buf, trace);
+  if (!status) status = lt__pool_end_launch(&od->pool, stats);
+  if (!status && count) status = lt__buffer_read(ctx, &hit_buf, 0, (size_t)count * sizeof(lt_hit), hits);
+
+  /* Build and traversal counters of the launch, summed over the work-groups. */
+  lt_u32 *counters = malloc((size_t)ctx->work_groups * LT_BVH_STAT_COUNT * sizeof *counters);
+  if (!status && counters)
+    status = lt__buffer_read(ctx, &od->counters, 0, (size_t)ctx->work_groups * LT_BVH_STAT_COUNT * 4, counters);
+  for (int g = 0; !status && counters && g < ctx->work_groups; g++) {
+    lt_u32 *c = counters + g * LT_BVH_STAT_COUNT;
+    od->leaves += c[LT_BVH_STAT_LEAVES];
+    od->sort_ops += c[LT_BVH_STAT_SORT_OPS];
+    lt__stats_add(stats, LT_STAT_SORT_OPS, c[LT_BVH_STAT_SORT_OPS]);
+    lt__stats_add(stats, LT_STAT_TRAVERSAL_STEPS, c[LT_BVH_STAT_STEPS]);
+    lt__stats_add(stats, LT_STAT_INTERSECTIONS, c[LT_BVH_STAT_TESTS]);
+  }
+  free(counters);
+  lt__buffer_release(&ray_buf);
+  lt__buffer_release(&hit_buf);
+  return status;
+}
+
+lt_status lt__ondemand_nodes_built(lt__ondemand *od, double *nodes) {
+  lt_pool_control control;
+  lt_status status = lt__buffer_read(od->ctx, &od->pool.control, 0, sizeof control, &control);
+  if (!status) *nodes = (double)(control.nodes_next - 1) + od->leaves;
+  return status;
+}
+
+lt_status lt__ondemand_snapshot(lt__ondemand *od, lt_bvh_node **nodes, int *node_count, int **index) {
+  lt_pool_control control;
+  lt_status status = lt__buffer_read(od->ctx, &od->pool.control, 0, sizeof control, &control);
+  if (status) return status;
+  *node_count = control.nodes_next < od->node_capacity ? control.nodes_next : od->node_capacity;
+  *nodes = malloc((size_t)*node_count * sizeof **nodes);
+  *index = malloc((size_t)od->count * sizeof **index);
+  if (!*nodes || !*index) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory copying a tree");
+  status = lt__buffer_read(od->ctx, &od->nodes, 0, (size_t)*node_count * sizeof **nodes, *nodes);
+  return status ? status : lt__buffer_read(od->ctx, &od->index, 0, (size_t)od->count * 4, *index);
+}
+
+double lt__ondemand_bytes(const lt__ondemand *od, double *node_bytes, double *reference_bytes, double *pool_bytes) {
+  *node_bytes = (double)od->nodes.bytes;
+  *reference_bytes = (double)od->index.bytes;
+  *pool_bytes = (double)(od->pool.headers.bytes + od->pool.tasks.bytes + od->pool.empty_cache.bytes +
+                         od->pool.priority_cache.bytes + od->pool.control.bytes + od->slabs.bytes);
+  return *node_bytes + *reference_bytes + *pool_bytes + od->tris.bytes + od->scratch.bytes + od->chunk_left.bytes;
+}

@@ -1,0 +1,37 @@
+/* The host half of the on-demand BVH: buffers, the root task, launches of the persistent
+ * kernel (kernels/bvh_ondemand.h) on either backend, and its counters. */
+#ifndef LT_ONDEMAND_INTERNAL_H
+#define LT_ONDEMAND_INTERNAL_H
+
+#include "builders/bvh_sah.h"
+#include "runtime/pool_internal.h"
+
+typedef struct lt__ondemand {
+  lt_context *ctx;
+  lt__pool pool;
+  lt__buffer tris, index, scratch, chunk_left, nodes, slabs, slab_used, counters;
+  int count;          /* triangles */
+  int node_capacity;
+  int slab_count;
+  lt__sah_config sah;
+  double leaves;      /* leaves built over all launches */
+  double sort_ops;
+} lt__ondemand;
+
+/* An empty tree over the scene: node 0 is a super-root whose left child is the root task. */
+lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__sah_config *sah, int mode,
+                              int pool_capacity, int node_capacity, lt__ondemand *od);
+void lt__ondemand_release(lt__ondemand *od);
+/* One launch: traces count rays (none is fine: a full build then builds everything) and writes
+ * hits; speculate says whether work-groups without rays build unrequested nodes. Adds the
+ * launch's pool and traversal counters to stats. */
+lt_status lt__ondemand_launch(lt__ondemand *od, const lt_ray *rays, int count, int any_hit, lt_hit *hits,
+                              int speculate, lt_stats *stats);
+/* Nodes built so far, counting leaves (the super-root is not counted). */
+lt_status lt__ondemand_nodes_built(lt__ondemand *od, double *nodes);
+/* Copies the node array and references (for tests that compare trees); the caller frees. */
+lt_status lt__ondemand_snapshot(lt__ondemand *od, lt_bvh_node **nodes, int *node_count, int **index);
+/* Device bytes held: nodes, references, pool and scratch. */
+double lt__ondemand_bytes(const lt__ondemand *od, double *node_bytes, double *reference_bytes, double *pool_bytes);
+
+#endif
