@@ -79,7 +79,7 @@ int lt_cli_parse(lt_cli *cli, int argc, char **argv) {
   cli->command = argv[1];
   cli->width = cli->height = 1024;
   cli->agents = 100, cli->rays_per_agent = 8, cli->frames = 20, cli->seed = 1;
-  cli->structure = (lt_structure_config){LT_STRUCTURE_BVH, LT_BUILD_SPECULATIVE, 16, 32, 1.0f};
+  cli->structure = (lt_structure_config){LT_STRUCTURE_BVH, LT_BUILD_SPECULATIVE, 16, 32, 1.0f, 0};
   for (int i = 2; i < argc; i++) {
     const char *arg = argv[i];
     if (strcmp(arg, "--any") == 0) {

@@ -166,6 +166,8 @@ typedef struct lt_structure_config {
   int max_leaf_size;      /* default 16 (the paper's leaf bound) */
   int sah_bins;           /* default 32 (the paper's bin count) */
   float traversal_cost;   /* SAH cost of one node visit relative to one intersection; default 1 */
+  int pool_capacity;      /* task slots to start with; default triangles / 8 (4096 at least).
+                             A full pool is retried from scratch with twice the slots. */
 } lt_structure_config;
 
 /* Parses "bvh", "full", ...; LT_ERROR_INVALID_ARGUMENT for an unknown name and

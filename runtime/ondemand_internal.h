@@ -31,6 +31,8 @@ lt_status lt__ondemand_launch(lt__ondemand *od, const lt_ray *rays, int count, i
 lt_status lt__ondemand_nodes_built(lt__ondemand *od, double *nodes);
 /* Copies the node array and references (for tests that compare trees); the caller frees. */
 lt_status lt__ondemand_snapshot(lt__ondemand *od, lt_bvh_node **nodes, int *node_count, int **index);
+/* The on-demand tree behind a structure, or NULL (for tests). */
+lt__ondemand *lt__structure_ondemand(lt_structure *structure);
 /* Device bytes held: nodes, references, pool and scratch. */
 double lt__ondemand_bytes(const lt__ondemand *od, double *node_bytes, double *reference_bytes, double *pool_bytes);
 

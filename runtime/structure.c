@@ -130,7 +130,7 @@ static void put_build_stats(lt_structure *s, lt_stats *stats) {
 
 lt_status lt_structure_create(lt_context *ctx, const lt_scene *scene, const lt_structure_config *config,
                               lt_stats *stats, lt_structure **out) {
-  lt_structure_config defaults = {LT_STRUCTURE_BVH, LT_BUILD_SPECULATIVE, 16, 32, 1.0f};
+  lt_structure_config defaults = {LT_STRUCTURE_BVH, LT_BUILD_SPECULATIVE, 16, 32, 1.0f, 0};
   if (!ctx || !scene || !out) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_structure_create: NULL argument");
   if (!config) config = &defaults;
   if (config->kind >= LT_STRUCTURE_COUNT) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "unknown structure kind %d", config->kind);
@@ -143,7 +143,7 @@ lt_status lt_structure_create(lt_context *ctx, const lt_scene *scene, const lt_s
   s->ctx = ctx;
   s->config = *config;
   s->scene = scene;
-  s->pool_capacity = initial_pool_capacity(scene->count);
+  s->pool_capacity = config->pool_capacity > 0 ? config->pool_capacity : initial_pool_capacity(scene->count);
   s->sah = lt__sah_config_default();
   if (config->max_leaf_size > 0) s->sah.max_leaf_size = config->max_leaf_size;
   if (config->sah_bins > 0) s->sah.bins = config->sah_bins;
@@ -169,6 +169,8 @@ lt_status lt_structure_create(lt_context *ctx, const lt_scene *scene, const lt_s
   *out = s;
   return LT_OK;
 }
+
+lt__ondemand *lt__structure_ondemand(lt_structure *s) { return s->od_live ? &s->od : NULL; }
 
 void lt_structure_destroy(lt_structure *s) {
   if (!s) return;

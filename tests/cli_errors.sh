@@ -39,7 +39,8 @@ expect_error "option without value" "needs a value" render sphere:2 --size
 expect_error "bad size" "WIDTHxHEIGHT" render sphere:2 --size 10by10
 expect_error "unknown structure" "unknown structure 'octree'" render sphere:2 --structure octree
 expect_error "planned structure refused" "not implemented yet" render sphere:2 --structure kdtree
-expect_error "on-demand build refused until the pool exists" "task pool" render sphere:2 --build requested --size 8x8 -o "$T/x.png"
+expect_error "bad build mode" "unknown build mode 'lazy'" render sphere:2 --build lazy
+expect_error "LBVH is built in full only" "full only" render sphere:2 --structure lbvh --build requested --size 8x8 -o "$T/x.png"
 expect_error "unknown device" "expected auto, native" render sphere:2 --device gpu
 expect_error "unwritable output" "could not write" render sphere:2 --size 8x8 -o /nonexistent/dir/x.png
 expect_error "unknown command" "unknown command" frobnicate

@@ -1,4 +1,4 @@
-/* The full SAH BVH against the brute-force reference: closest hits (prim and t) on camera and
+/* The full SAH BVH (built through the task pool) against the brute-force reference: closest hits (prim and t) on camera and
  * random rays for every generator, on both backends and several launch shapes; any-hit
  * answers against closest-hit occlusion. */
 #include <setjmp.h>
@@ -51,7 +51,8 @@ static lt_hit *trace_with(const lt_scene *scene, const launch *l, const lt_ray *
   lt_context_config config = {l->device, 0, l->work_groups, l->local_size, 1};
   assert_int_equal(lt_context_create(&config, &ctx), LT_OK);
   lt_structure *bvh;
-  assert_int_equal(lt_structure_create(ctx, scene, NULL, NULL, &bvh), LT_OK);
+  lt_structure_config full = {LT_STRUCTURE_BVH, LT_BUILD_FULL, 16, 32, 1.0f, 0};
+  assert_int_equal(lt_structure_create(ctx, scene, &full, NULL, &bvh), LT_OK);
   lt_hit *hits = malloc(n * sizeof *hits);
   assert_non_null(hits);
   assert_int_equal(lt_structure_trace(bvh, rays, n, query, hits, NULL), LT_OK);
@@ -139,7 +140,8 @@ static void bvh_statistics_are_filled(void **state) {
   lt_stats *stats;
   assert_int_equal(lt_stats_create(&stats), LT_OK);
   lt_structure *bvh;
-  assert_int_equal(lt_structure_create(ctx, scene, NULL, stats, &bvh), LT_OK);
+  lt_structure_config full = {LT_STRUCTURE_BVH, LT_BUILD_FULL, 16, 32, 1.0f, 0};
+  assert_int_equal(lt_structure_create(ctx, scene, &full, stats, &bvh), LT_OK);
   lt_ray rays[64];
   lt_hit hits[64];
   lt_test_random_rays(scene, 3, 64, rays);
