@@ -195,10 +195,11 @@ static void ondemand_nodes_equal_the_full_tree(void **state) {
   lt__bvh full;
   lt__sah_config sah = lt__sah_config_default();
   assert_int_equal(lt__bvh_build_sah(lt_scene_triangles(scene), lt_scene_triangle_count(scene), &sah, &full), LT_OK);
-  size_t n = 128 * 128;
+  int side = getenv("LT_TEST_QUICK") ? 48 : 128;
+  size_t n = (size_t)side * side;
   lt_ray *rays = malloc(n * sizeof *rays);
   lt_hit *hits = malloc(n * sizeof *hits);
-  lt_test_camera_rays(scene, "close", 128, 128, rays);
+  lt_test_camera_rays(scene, "close", side, side, rays);
   for (int mode = 0; mode < 3; mode++) {
     lt_context *ctx;
     lt_context_config config = {LT_DEVICE_NATIVE, 2, 1, 0, 1};
@@ -259,7 +260,8 @@ static void ondemand_full_pool_is_retried_larger(void **state) {
 static void ondemand_builds_only_what_rays_reach(void **state) {
   (void)state;
   lt_scene *scene;
-  assert_int_equal(lt_scene_load("house-row:4", &scene), LT_OK);
+  int quick = getenv("LT_TEST_QUICK") != NULL;
+  assert_int_equal(lt_scene_load(quick ? "house-row:2" : "house-row:4", &scene), LT_OK);
   size_t n = 64 * 64;
   lt_ray *rays = malloc(n * sizeof *rays);
   lt_test_camera_rays(scene, "outer", 64, 64, rays);
@@ -272,7 +274,7 @@ static void ondemand_builds_only_what_rays_reach(void **state) {
     nodes[mode] = lt_stats_get(stats, "nodes_built");
     lt_stats_destroy(stats);
   }
-  fprintf(stderr, "house-row:4 outer, 64x64: nodes built full %.0f, requested %.0f, speculative %.0f\n", nodes[0],
+  fprintf(stderr, "house-row outer, 64x64: nodes built full %.0f, requested %.0f, speculative %.0f\n", nodes[0],
           nodes[1], nodes[2]);
   assert_true(nodes[1] < 0.1 * nodes[0]);
   assert_true(nodes[2] >= nodes[1] && nodes[2] <= nodes[0]);
