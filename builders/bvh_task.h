@@ -42,7 +42,9 @@
 
 typedef struct lt_bvh_build {
   lt_pool pool;
-  LT_GLOBAL const lt_tri *tris;  /* in scene order */
+  LT_GLOBAL const float *verts;  /* 9 per triangle, in scene order (the scene's own array) */
+  LT_GLOBAL const float *prim_boxes; /* 6 per triangle: lo xyz, hi xyz (computed once) */
+  LT_GLOBAL lt_i32 *bin_code;    /* per position: the bin on each axis, 8 bits each */
   LT_GLOBAL lt_i32 *index;       /* primitive references, permuted into leaf order */
   LT_GLOBAL lt_i32 *scratch;     /* room for the partition */
   LT_GLOBAL lt_i32 *chunk_left;  /* at each chunk's first position: its left-hand count */
@@ -58,10 +60,13 @@ LT_DEVICE void lt_bvh_count(const lt_bvh_build *b, int stat, lt_u32 n) {
   lt_atomic_add_u32(&b->counters[lt_group_id() * LT_BVH_STAT_COUNT + stat], n);
 }
 
+/* A triangle's box and centroid, exactly as lt_tri_bounds computes them. */
 LT_DEVICE void lt_prim_bounds(const lt_bvh_build *b, lt_i32 prim, lt_box *box, float centroid[3]) {
-  lt_tri t = b->tris[prim];
-  float v[9] = {t.v0.x, t.v0.y, t.v0.z, t.v1.x, t.v1.y, t.v1.z, t.v2.x, t.v2.y, t.v2.z};
-  lt_tri_bounds(v, box, centroid);
+  LT_GLOBAL const float *p = b->prim_boxes + 6 * (long)prim;
+  for (int k = 0; k < 3; k++) {
+    box->lo[k] = p[k], box->hi[k] = p[3 + k];
+    centroid[k] = 0.5f * (box->lo[k] + box->hi[k]);
+  }
 }
 
 LT_DEVICE void lt_store_box(LT_GLOBAL lt_i32 *w, const lt_box *box) {
@@ -144,7 +149,8 @@ LT_DEVICE void lt_bvh_finish_leaf(const lt_bvh_build *b, lt_i32 slot) {
   lt_pool_retire(&b->pool, slot);
 }
 
-/* Bins the primitives index[lo, hi) into private bins. */
+/* Bins the primitives at positions [lo, hi) into private bins, and notes each one's bin on
+ * every axis so that the partition need not recompute it. */
 LT_DEVICE void lt_bvh_bin_range(const lt_bvh_build *b, lt_i32 lo, lt_i32 hi, lt_i32 step, const lt_box *cbounds,
                                 lt_i32 *bins) {
   float scale[3];
@@ -154,17 +160,16 @@ LT_DEVICE void lt_bvh_bin_range(const lt_bvh_build *b, lt_i32 lo, lt_i32 hi, lt_
     float c[3];
     lt_prim_bounds(b, b->index[i], &box, c);
     lt_bins_add(bins, cbounds, scale, b->bins, &box, c);
+    lt_i32 code = 0;
+    for (int axis = 0; axis < 3; axis++)
+      if (scale[axis] != 0.0f) code |= lt_bin_of(c[axis], cbounds->lo[axis], scale[axis], b->bins) << (8 * axis);
+    b->bin_code[i] = code;
   }
 }
 
-/* Whether primitive p goes left of split code (axis * 64 + bin). */
-LT_DEVICE int lt_bvh_goes_left(const lt_bvh_build *b, lt_i32 p, lt_i32 split, const lt_box *cbounds) {
-  float scale[3], c[3];
-  lt_box box;
-  lt_bin_scale(cbounds, b->bins, scale);
-  lt_prim_bounds(b, p, &box, c);
-  int axis = split >> 6;
-  return lt_bin_of(c[axis], cbounds->lo[axis], scale[axis], b->bins) <= (split & 63);
+/* Whether the primitive at position i goes left of split code (axis * 64 + bin). */
+LT_DEVICE int lt_bvh_goes_left(const lt_bvh_build *b, lt_i32 i, lt_i32 split) {
+  return ((b->bin_code[i] >> (8 * (split >> 6))) & 255) <= (split & 63);
 }
 
 /* Bounds and centroid bounds of index[lo, hi). */
@@ -208,7 +213,7 @@ LT_DEVICE void lt_bvh_small(const lt_bvh_build *b, lt_i32 slot) {
   lt_i32 split = s.axis * 64 + s.bin, left = begin, right = begin + s.left_count;
   for (lt_i32 i = begin; i < end; i++) {
     lt_i32 p = b->index[i];
-    if (lt_bvh_goes_left(b, p, split, &cbounds)) b->scratch[left++] = p;
+    if (lt_bvh_goes_left(b, i, split)) b->scratch[left++] = p;
     else b->scratch[right++] = p;
   }
   for (lt_i32 i = begin; i < end; i++) b->index[i] = b->scratch[i];
@@ -247,7 +252,7 @@ LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, in
   if (lid != 0 || phase == LT_BVH_SMALL || phase == LT_BVH_INIT) return;
   if (phase == LT_BVH_COUNT) {
     lt_i32 split = task->work[W_SPLIT], left = 0;
-    for (lt_i32 i = lo; i < hi; i++) left += lt_bvh_goes_left(b, b->index[i], split, &cbounds);
+    for (lt_i32 i = lo; i < hi; i++) left += lt_bvh_goes_left(b, i, split);
     b->chunk_left[lo] = left;
   } else if (phase == LT_BVH_SCATTER) {
     /* This chunk's place: the left-hand counts of the chunks before it, in order. */
@@ -258,7 +263,7 @@ LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, in
     }
     for (lt_i32 i = lo; i < hi; i++) {
       lt_i32 p = b->index[i];
-      if (lt_bvh_goes_left(b, p, split, &cbounds)) b->scratch[left++] = p;
+      if (lt_bvh_goes_left(b, i, split)) b->scratch[left++] = p;
       else b->scratch[right++] = p;
     }
   } else if (phase == LT_BVH_BOXES) {

@@ -82,16 +82,18 @@ LT_DEVICE void lt_bins_clear(lt_i32 *bins) {
 /* Adds one primitive to its bin on every axis that has an extent. */
 LT_DEVICE void lt_bins_add(lt_i32 *bins, const lt_box *cbounds, const float scale[3], int nbins, const lt_box *box,
                            const float centroid[3]) {
+  /* The order-preserving ints once per primitive, not once per axis. */
+  lt_i32 lo[3], hi[3], c[3];
+  for (int k = 0; k < 3; k++) lo[k] = lt_ordered(box->lo[k]), hi[k] = lt_ordered(box->hi[k]), c[k] = lt_ordered(centroid[k]);
   for (int axis = 0; axis < 3; axis++) {
     if (scale[axis] == 0.0f) continue;
     lt_i32 *b = bins + (axis * LT_MAX_BINS + lt_bin_of(centroid[axis], cbounds->lo[axis], scale[axis], nbins)) * LT_BIN_STRIDE;
     b[0]++;
     for (int k = 0; k < 3; k++) {
-      lt_i32 lo = lt_ordered(box->lo[k]), hi = lt_ordered(box->hi[k]), c = lt_ordered(centroid[k]);
-      b[1 + k] = lo < b[1 + k] ? lo : b[1 + k];
-      b[4 + k] = hi > b[4 + k] ? hi : b[4 + k];
-      b[7 + k] = c < b[7 + k] ? c : b[7 + k];
-      b[10 + k] = c > b[10 + k] ? c : b[10 + k];
+      b[1 + k] = lo[k] < b[1 + k] ? lo[k] : b[1 + k];
+      b[4 + k] = hi[k] > b[4 + k] ? hi[k] : b[4 + k];
+      b[7 + k] = c[k] < b[7 + k] ? c[k] : b[7 + k];
+      b[10 + k] = c[k] > b[10 + k] ? c[k] : b[10 + k];
     }
   }
 }

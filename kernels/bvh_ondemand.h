@@ -8,6 +8,9 @@
 
 #include "traversal/bvh_ondemand.h"
 
+/* Rays a work-item takes at a time: one shared counter update per 64 rays, not per ray. */
+#define LT_OD_RAYS_PER_ITEM 64
+
 #ifndef LT_MAX_LOCAL_SIZE
 #define LT_MAX_LOCAL_SIZE 256
 #endif
@@ -40,14 +43,19 @@ LT_DEVICE void lt_od_run(const lt_od_trace_args *a, LT_LOCAL lt_od_shared *sh) {
   q.r = lt_ray_prepare(0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f);
   q.hit.t = q.hit.u = q.hit.v = 0.0f, q.hit.prim = -1, q.sp = 0, q.cur = -1, q.wait = -1;
   lt_trace_counters c = {0, 0};
-  lt_i32 item = -1;
+  lt_i32 item = -1, next_item = 0, end_item = 0; /* this work-item's rays: item, then next..end */
   int gave_up = 0, running = 1;
   lt_i32 idle = 0, last_progress = -1;
   while (running) {
-    /* Trace (or restart) this work-item's ray. */
-    if (item >= 0 && lt_od_trace(b, &q, a->any_hit, &c)) {
+    /* Trace (or restart) this work-item's rays until one waits or they run out. */
+    while (item >= 0 && lt_od_trace(b, &q, a->any_hit, &c)) {
       lt_od_finish_ray(a, item, &q);
       item = -1;
+      if (next_item < end_item) {
+        item = next_item;
+        next_item += lsize;
+        lt_od_start(&q, a->rays + 8 * (long)item);
+      }
     }
     sh->pending[lid] = item >= 0;
     lt_barrier();
@@ -58,7 +66,7 @@ LT_DEVICE void lt_od_run(const lt_od_trace_args *a, LT_LOCAL lt_od_shared *sh) {
       for (int l = 0; l < lsize; l++) waiting |= sh->pending[l];
       sh->batch = -1, sh->quit = 0, sh->slot = -1, sh->chunk = -1;
       if (!waiting && !gave_up) {
-        lt_i32 first = lt_atomic_add_i32(&pool->control->work_next, lsize);
+        lt_i32 first = lt_atomic_add_i32(&pool->control->work_next, lsize * LT_OD_RAYS_PER_ITEM);
         if (first < a->ray_count) {
           sh->batch = first;
           lt_atomic_add_i32(&pool->control->progress, 1);
@@ -91,9 +99,12 @@ LT_DEVICE void lt_od_run(const lt_od_trace_args *a, LT_LOCAL lt_od_shared *sh) {
     running = !sh->quit;
     lt_i32 batch = sh->batch, slot = sh->slot, chunk = sh->chunk;
 
-    /* New rays: one a work-item, traced at the top of the loop. */
+    /* New rays: every lsize-th of the batch for each work-item, traced at the top of the loop. */
     if (running && batch >= 0) {
-      item = batch + lid < a->ray_count ? batch + lid : -1;
+      lt_i32 batch_end = batch + lsize * LT_OD_RAYS_PER_ITEM;
+      end_item = batch_end < a->ray_count ? batch_end : a->ray_count;
+      item = batch + lid < end_item ? batch + lid : -1;
+      next_item = batch + lid + lsize;
       if (item >= 0) lt_od_start(&q, a->rays + 8 * (long)item);
     }
 

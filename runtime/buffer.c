@@ -10,6 +10,12 @@ lt_status lt__buffer_create(lt_context *ctx, lt__buffer *buffer, size_t bytes, c
   memset(buffer, 0, sizeof *buffer);
   buffer->bytes = bytes < 16 ? 16 : (bytes + 15) / 16 * 16;
   if (ctx->kind == LT_DEVICE_NATIVE) {
+    /* calloc leaves untouched pages unmapped: a big node array costs only what is used. */
+    if (fill == LT_BUFFER_UNINIT || (fill == 0 && !init)) {
+      buffer->host = calloc(1, buffer->bytes);
+      if (!buffer->host) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a %zu-byte buffer", bytes);
+      return init && bytes ? lt__buffer_write(ctx, buffer, 0, bytes, init) : LT_OK;
+    }
     buffer->host = aligned_alloc(64, (buffer->bytes + 63) / 64 * 64);
     if (!buffer->host) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a %zu-byte buffer", bytes);
   } else {
@@ -17,7 +23,7 @@ lt_status lt__buffer_create(lt_context *ctx, lt__buffer *buffer, size_t bytes, c
     buffer->mem = clCreateBuffer(ctx->cl, CL_MEM_READ_WRITE, buffer->bytes, NULL, &err);
     if (err != CL_SUCCESS) return lt__opencl_check(err, "clCreateBuffer");
   }
-  lt_status status = lt__buffer_fill(ctx, buffer, fill);
+  lt_status status = fill == LT_BUFFER_UNINIT ? LT_OK : lt__buffer_fill(ctx, buffer, fill);
   if (!status && init && bytes) status = lt__buffer_write(ctx, buffer, 0, bytes, init);
   return status;
 }
@@ -50,8 +56,32 @@ lt_status lt__buffer_read(lt_context *ctx, const lt__buffer *buffer, size_t offs
   return lt__opencl_check(err, "clEnqueueReadBuffer");
 }
 
+lt_status lt__buffer_wrap(lt_context *ctx, lt__buffer *buffer, const void *host, size_t bytes) {
+  memset(buffer, 0, sizeof *buffer);
+  buffer->bytes = bytes;
+  if (ctx->kind == LT_DEVICE_NATIVE) {
+    buffer->host = (void *)host;
+    buffer->borrowed = 1;
+    return LT_OK;
+  }
+  cl_int err;
+  buffer->mem = clCreateBuffer(ctx->cl, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes < 16 ? 16 : bytes, (void *)host, &err);
+  return lt__opencl_check(err, "clCreateBuffer");
+}
+
+void *lt__buffer_begin_write(lt_context *ctx, lt__buffer *buffer) {
+  return ctx->kind == LT_DEVICE_NATIVE ? buffer->host : malloc(buffer->bytes);
+}
+
+lt_status lt__buffer_end_write(lt_context *ctx, lt__buffer *buffer, void *staging) {
+  if (ctx->kind == LT_DEVICE_NATIVE) return LT_OK;
+  lt_status status = lt__buffer_write(ctx, buffer, 0, buffer->bytes, staging);
+  free(staging);
+  return status;
+}
+
 void lt__buffer_release(lt__buffer *buffer) {
-  free(buffer->host);
+  if (!buffer->borrowed) free(buffer->host);
   if (buffer->mem) clReleaseMemObject(buffer->mem);
   memset(buffer, 0, sizeof *buffer);
 }

@@ -10,7 +10,11 @@ typedef struct lt__buffer {
   void *host; /* native backend */
   cl_mem mem; /* OpenCL backend */
   size_t bytes;
+  int borrowed; /* native: host memory belongs to someone else (lt__buffer_wrap) */
 } lt__buffer;
+
+/* A fill value that leaves the contents undefined (zero on native, where calloc is lazy). */
+#define LT_BUFFER_UNINIT ((int)0x7eadbeef)
 
 /* Allocates `bytes` (at least 16), filled from `init` or with the 32-bit `fill` pattern. */
 lt_status lt__buffer_create(lt_context *ctx, lt__buffer *buffer, size_t bytes, const void *init, int fill);
@@ -18,5 +22,12 @@ lt_status lt__buffer_write(lt_context *ctx, lt__buffer *buffer, size_t offset, s
 lt_status lt__buffer_read(lt_context *ctx, const lt__buffer *buffer, size_t offset, size_t bytes, void *dst);
 lt_status lt__buffer_fill(lt_context *ctx, lt__buffer *buffer, int fill);
 void lt__buffer_release(lt__buffer *buffer);
+/* A read-only buffer over existing host memory: the native backend uses it in place (no
+ * copy); OpenCL copies it once. The memory must outlive the buffer. */
+lt_status lt__buffer_wrap(lt_context *ctx, lt__buffer *buffer, const void *host, size_t bytes);
+/* Where to write a buffer's initial contents: the buffer itself on native, a staging copy on
+ * OpenCL that lt__buffer_end_write uploads and frees. NULL when out of memory. */
+void *lt__buffer_begin_write(lt_context *ctx, lt__buffer *buffer);
+lt_status lt__buffer_end_write(lt_context *ctx, lt__buffer *buffer, void *staging);
 
 #endif

@@ -12,23 +12,18 @@
 
 #define SLABS 64
 
-/* The triangles in scene order with their numbers, and the root's bounds. */
-static lt_tri *pack_triangles(const lt_scene *scene, lt_box *bounds, lt_box *cbounds) {
-  lt_tri *tris = malloc(scene->count * sizeof *tris);
+/* Each triangle's box (written where `boxes` points) and the root's bounds. */
+static void triangle_boxes(const lt_scene *scene, float *boxes, lt_box *bounds, lt_box *cbounds) {
   *bounds = *cbounds = lt_box_empty();
-  for (size_t i = 0; tris && i < scene->count; i++) {
-    const float *t = scene->tris + 9 * i;
-    tris[i].v0 = lt_make_float4(t[0], t[1], t[2], lt_int_as_float((int)i));
-    tris[i].v1 = lt_make_float4(t[3], t[4], t[5], 0.0f);
-    tris[i].v2 = lt_make_float4(t[6], t[7], t[8], 0.0f);
+  for (size_t i = 0; i < scene->count; i++) {
     lt_box box;
     float c[3];
-    lt_tri_bounds(t, &box, c);
+    lt_tri_bounds(scene->tris + 9 * i, &box, c);
+    for (int k = 0; k < 3; k++) boxes[6 * i + k] = box.lo[k], boxes[6 * i + 3 + k] = box.hi[k];
     lt_box cb = {{c[0], c[1], c[2]}, {c[0], c[1], c[2]}};
     lt_box_grow(bounds, &box);
     lt_box_grow(cbounds, &cb);
   }
-  return tris;
 }
 
 static lt_status warm_up(lt__ondemand *od);
@@ -42,29 +37,39 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
   od->slab_count = SLABS;
   od->sah = *sah;
   if (sah->bins > LT_MAX_BINS) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "at most %d SAH bins", LT_MAX_BINS);
-  lt_box bounds, cbounds;
-  lt_tri *tris = pack_triangles(scene, &bounds, &cbounds);
-  int *index = malloc(scene->count * sizeof *index);
-  if (!tris || !index) {
-    free(tris), free(index);
-    return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for %zu triangles", scene->count);
-  }
-  for (int i = 0; i < od->count; i++) index[i] = i;
-
-  /* Device buffers: triangles, references, partition room, nodes, bin slabs, counters. */
+  /* Device buffers: the scene's triangles as they are (no copy on native), their boxes,
+   * references, partition room, nodes, bin slabs, counters. */
   lt_pool_config config = {pool_capacity, 0, 0, 0, 0};
   size_t n = scene->count;
+  lt_box bounds, cbounds;
   lt_status status = lt__pool_create(ctx, &config, mode, &od->pool);
-  if (!status) status = lt__buffer_create(ctx, &od->tris, n * sizeof(lt_tri), tris, 0);
-  if (!status) status = lt__buffer_create(ctx, &od->index, n * 4, index, 0);
-  if (!status) status = lt__buffer_create(ctx, &od->scratch, n * 4, NULL, 0);
-  if (!status) status = lt__buffer_create(ctx, &od->chunk_left, n * 4, NULL, 0);
-  if (!status) status = lt__buffer_create(ctx, &od->nodes, (size_t)node_capacity * sizeof(lt_bvh_node), NULL, 0);
+  if (!status) status = lt__buffer_wrap(ctx, &od->verts, scene->tris, n * 9 * sizeof(float));
+  if (!status) status = lt__buffer_create(ctx, &od->prim_boxes, n * 6 * sizeof(float), NULL, LT_BUFFER_UNINIT);
+  if (!status) status = lt__buffer_create(ctx, &od->index, n * 4, NULL, LT_BUFFER_UNINIT);
+  if (!status) {
+    float *boxes = lt__buffer_begin_write(ctx, &od->prim_boxes);
+    int *index = lt__buffer_begin_write(ctx, &od->index);
+    if (boxes && index) {
+      triangle_boxes(scene, boxes, &bounds, &cbounds);
+      for (int i = 0; i < od->count; i++) index[i] = i;
+    }
+    status = boxes && index ? LT_OK : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for %zu triangles", n);
+    if (!status) status = lt__buffer_end_write(ctx, &od->prim_boxes, boxes);
+    if (!status) status = lt__buffer_end_write(ctx, &od->index, index);
+  }
+  if (!status) status = lt__buffer_create(ctx, &od->bin_code, n * 4, NULL, LT_BUFFER_UNINIT);
+  if (!status) status = lt__buffer_create(ctx, &od->scratch, n * 4, NULL, LT_BUFFER_UNINIT);
+  if (!status) status = lt__buffer_create(ctx, &od->chunk_left, n * 4, NULL, LT_BUFFER_UNINIT);
+  if (!status)
+    status = lt__buffer_create(ctx, &od->nodes, (size_t)node_capacity * sizeof(lt_bvh_node), NULL, LT_BUFFER_UNINIT);
   if (!status) status = lt__buffer_create(ctx, &od->slabs, (size_t)SLABS * LT_BVH_SLAB_SIZE * 4, NULL, 0);
   if (!status) status = lt__buffer_create(ctx, &od->slab_used, SLABS * 4, NULL, 0);
   if (!status)
     status = lt__buffer_create(ctx, &od->counters, (size_t)ctx->work_groups * LT_BVH_STAT_COUNT * 4, NULL, 0);
-  free(tris), free(index);
+  if (status) {
+    lt__ondemand_release(od);
+    return status;
+  }
 
   /* Node 0: the super-root; its left child is the scene's root, built by the task in slot 0
    * (a single triangle is a leaf at once). */
@@ -99,8 +104,8 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
 
 void lt__ondemand_release(lt__ondemand *od) {
   lt__pool_release(&od->pool);
-  lt__buffer *buffers[] = {&od->tris, &od->index, &od->scratch, &od->chunk_left, &od->nodes, &od->slabs,
-                           &od->slab_used, &od->counters};
+  lt__buffer *buffers[] = {&od->verts, &od->prim_boxes, &od->bin_code,  &od->index,   &od->scratch,
+                           &od->chunk_left, &od->nodes, &od->slabs, &od->slab_used, &od->counters};
   for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++) lt__buffer_release(buffers[i]);
 }
 
@@ -112,15 +117,15 @@ static lt_status launch_opencl(lt__ondemand *od, lt__buffer *rays, lt__buffer *h
   cl_float2 costs = {{od->sah.traversal_cost, od->sah.intersection_cost}};
   lt_status status = lt__pool_set_args(&od->pool, k);
   if (status) return status;
-  lt__buffer *buffers[] = {&od->tris, &od->index, &od->scratch, &od->chunk_left, &od->nodes, &od->slabs,
-                           &od->slab_used, &od->counters};
+  lt__buffer *buffers[] = {&od->verts, &od->prim_boxes, &od->bin_code,  &od->index,   &od->scratch,
+                           &od->chunk_left, &od->nodes, &od->slabs, &od->slab_used, &od->counters};
   cl_int err = CL_SUCCESS;
-  for (int i = 0; i < 8; i++) err |= clSetKernelArg(k, 9 + i, sizeof(cl_mem), &buffers[i]->mem);
-  err |= clSetKernelArg(k, 17, sizeof sizes, &sizes);
-  err |= clSetKernelArg(k, 18, sizeof costs, &costs);
-  err |= clSetKernelArg(k, 19, sizeof(cl_mem), &rays->mem);
-  err |= clSetKernelArg(k, 20, sizeof(cl_mem), &hits->mem);
-  err |= clSetKernelArg(k, 21, sizeof trace, &trace);
+  for (int i = 0; i < 10; i++) err |= clSetKernelArg(k, 9 + i, sizeof(cl_mem), &buffers[i]->mem);
+  err |= clSetKernelArg(k, 19, sizeof sizes, &sizes);
+  err |= clSetKernelArg(k, 20, sizeof costs, &costs);
+  err |= clSetKernelArg(k, 21, sizeof(cl_mem), &rays->mem);
+  err |= clSetKernelArg(k, 22, sizeof(cl_mem), &hits->mem);
+  err |= clSetKernelArg(k, 23, sizeof trace, &trace);
   if ((status = lt__opencl_check(err, "setting on-demand kernel arguments"))) return status;
 
   /* Exactly as many work-groups as run at once: persistent groups wait on each other. */
@@ -132,7 +137,8 @@ static lt_status launch_opencl(lt__ondemand *od, lt__buffer *rays, lt__buffer *h
 
 static lt_status launch_native(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, cl_int4 trace) {
   lt_od_trace_args a;
-  a.build = (lt_bvh_build){lt__pool_native_view(&od->pool), od->tris.host, od->index.host, od->scratch.host,
+  a.build = (lt_bvh_build){lt__pool_native_view(&od->pool), od->verts.host, od->prim_boxes.host, od->bin_code.host,
+                           od->index.host, od->scratch.host,
                            od->chunk_left.host, od->nodes.host, od->slabs.host, od->slab_used.host,
                            od->counters.host, od->slab_count, od->node_capacity, od->sah.max_leaf_size,
                            od->sah.bins, od->sah.traversal_cost, od->sah.intersection_cost};
@@ -218,5 +224,6 @@ double lt__ondemand_bytes(const lt__ondemand *od, double *node_bytes, double *re
   *reference_bytes = (double)od->index.bytes;
   *pool_bytes = (double)(od->pool.headers.bytes + od->pool.tasks.bytes + od->pool.empty_cache.bytes +
                          od->pool.priority_cache.bytes + od->pool.control.bytes + od->slabs.bytes);
-  return *node_bytes + *reference_bytes + *pool_bytes + od->tris.bytes + od->scratch.bytes + od->chunk_left.bytes;
+  return *node_bytes + *reference_bytes + *pool_bytes + od->prim_boxes.bytes + od->bin_code.bytes +
+         od->scratch.bytes + od->chunk_left.bytes;
 }

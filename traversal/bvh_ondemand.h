@@ -38,8 +38,8 @@ LT_DEVICE int lt_read_link(LT_GLOBAL const lt_bvh_node *nodes, lt_i32 address, l
 LT_DEVICE void lt_od_leaf(const lt_bvh_build *b, lt_od_ray *q, lt_i32 first, lt_i32 count, lt_trace_counters *c) {
   for (lt_i32 i = first; i < first + count; i++) {
     lt_i32 prim = b->index[i];
-    lt_tri t = b->tris[prim];
-    float v0[3] = {t.v0.x, t.v0.y, t.v0.z}, v1[3] = {t.v1.x, t.v1.y, t.v1.z}, v2[3] = {t.v2.x, t.v2.y, t.v2.z};
+    LT_GLOBAL const float *t = b->verts + 9 * (long)prim;
+    float v0[3] = {t[0], t[1], t[2]}, v1[3] = {t[3], t[4], t[5]}, v2[3] = {t[6], t[7], t[8]};
     c->intersections++;
     lt_intersect_triangle(&q->r, v0, v1, v2, prim, &q->hit);
   }
