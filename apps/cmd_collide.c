@@ -8,40 +8,6 @@
 
 #include "apps/cli.h"
 
-/* splitmix64: a small deterministic generator, so a seed gives the same batches anywhere. */
-static uint64_t next_u64(uint64_t *state) {
-  uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
-static float uniform(uint64_t *state) { return (next_u64(state) >> 40) * (1.0f / 16777216.0f); }
-
-/* Path endpoints of every agent: 6 floats (start, end) each. */
-static void place_agents(const lt_scene *scene, int agents, uint64_t *rng, float *paths) {
-  float lo[3], hi[3];
-  lt_scene_bounds(scene, lo, hi);
-  for (int a = 0; a < 6 * agents; a++) paths[a] = lo[a % 3] + uniform(rng) * (hi[a % 3] - lo[a % 3]);
-}
-
-/* The rays of one frame: from each agent's position, uniformly on the sphere, up to the next. */
-static void frame_rays(const float *paths, int agents, int per_agent, int frame, int frames, uint64_t *rng, lt_ray *out) {
-  for (int a = 0; a < agents; a++) {
-    const float *p = paths + 6 * a;
-    float s0 = (float)frame / frames, s1 = (float)(frame + 1) / frames, pos[3], step = 0.0f;
-    for (int k = 0; k < 3; k++) {
-      pos[k] = p[k] + s0 * (p[3 + k] - p[k]);
-      float d = (s1 - s0) * (p[3 + k] - p[k]);
-      step += d * d;
-    }
-    for (int r = 0; r < per_agent; r++) {
-      float z = 2.0f * uniform(rng) - 1.0f, phi = 6.2831853f * uniform(rng), s = sqrtf(fmaxf(0.0f, 1.0f - z * z));
-      lt_ray *ray = &out[(size_t)a * per_agent + r];
-      *ray = (lt_ray){{pos[0], pos[1], pos[2]}, 0.0f, {s * cosf(phi), s * sinf(phi), z}, sqrtf(step)};
-    }
-  }
-}
-
 int lt_cmd_collide(lt_cli *cli) {
   lt_stats *stats, *frame_stats;
   lt_context *ctx;
@@ -52,13 +18,12 @@ int lt_cmd_collide(lt_cli *cli) {
   float *paths = malloc(6 * sizeof(float) * cli->agents);
   lt_ray *rays = malloc(n * sizeof *rays);
   lt_hit *hits = malloc(n * sizeof *hits);
-  uint64_t rng = cli->seed;
   int rc = 1;
   if (!paths || !rays || !hits) {
     fprintf(stderr, "lazytrace collide: out of memory\n");
     goto done;
   }
-  place_agents(scene, cli->agents, &rng, paths);
+  lt_collision_paths(scene, cli->agents, cli->seed, paths);
 
   /* Every frame rebuilds the structure from scratch, as moving geometry would require. */
   double build_sum = 0, trace_sum = 0, hits_sum = 0;
@@ -66,7 +31,7 @@ int lt_cmd_collide(lt_cli *cli) {
   for (int f = 0; f < cli->frames; f++) {
     lt_structure *structure;
     lt_stats_reset(frame_stats);
-    frame_rays(paths, cli->agents, cli->rays_per_agent, f, cli->frames, &rng, rays);
+    lt_collision_rays(paths, cli->agents, cli->rays_per_agent, f, cli->frames, cli->seed + 1, rays);
     lt_status status = lt_structure_create(ctx, scene, &cli->structure, frame_stats, &structure);
     if (!status) status = lt_structure_trace(structure, rays, n, LT_QUERY_CLOSEST, hits, frame_stats);
     lt_structure_destroy(structure);

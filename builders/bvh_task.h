@@ -185,6 +185,23 @@ LT_DEVICE void lt_bvh_bound_range(const lt_bvh_build *b, lt_i32 lo, lt_i32 hi, l
   }
 }
 
+/* Grows a box by a primitive's centroid. */
+LT_DEVICE void lt_bvh_grow_centroid(const lt_bvh_build *b, lt_i32 prim, lt_box *cbox) {
+  lt_box box;
+  float c[3];
+  lt_prim_bounds(b, prim, &box, c);
+  lt_box cb = {{c[0], c[1], c[2]}, {c[0], c[1], c[2]}};
+  lt_box_grow(cbox, &cb);
+}
+
+/* Grows box `i` of a slab's summary (order-preserving ints) with atomics. */
+LT_DEVICE void lt_slab_grow_box(LT_GLOBAL lt_i32 *slab, int i, const lt_box *box) {
+  for (int k = 0; k < 3; k++) {
+    lt_atomic_min_i32(&slab[6 * i + k], lt_ordered(box->lo[k]));
+    lt_atomic_max_i32(&slab[6 * i + 3 + k], lt_ordered(box->hi[k]));
+  }
+}
+
 /* A whole node in one chunk (work-item 0): bin, decide, partition in order, children. */
 LT_DEVICE void lt_bvh_small(const lt_bvh_build *b, lt_i32 slot) {
   LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
@@ -209,11 +226,13 @@ LT_DEVICE void lt_bvh_small(const lt_bvh_build *b, lt_i32 slot) {
     return;
   }
 
-  /* Stable partition through the scratch array. */
+  /* Stable partition through the scratch array, bounding each side's centroids. */
   lt_i32 split = s.axis * 64 + s.bin, left = begin, right = begin + s.left_count;
   for (lt_i32 i = begin; i < end; i++) {
     lt_i32 p = b->index[i];
-    if (lt_bvh_goes_left(b, i, split)) b->scratch[left++] = p;
+    int goes_left = lt_bvh_goes_left(b, i, split);
+    lt_bvh_grow_centroid(b, p, goes_left ? &s.cleft : &s.cright);
+    if (goes_left) b->scratch[left++] = p;
     else b->scratch[right++] = p;
   }
   for (lt_i32 i = begin; i < end; i++) b->index[i] = b->scratch[i];
@@ -251,9 +270,17 @@ LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, in
    * retire its own task, because its finisher still counts the chunk done afterwards. */
   if (lid != 0 || phase == LT_BVH_SMALL || phase == LT_BVH_INIT) return;
   if (phase == LT_BVH_COUNT) {
+    /* Count the left-hand primitives, and bound both sides' centroids for the children. */
     lt_i32 split = task->work[W_SPLIT], left = 0;
-    for (lt_i32 i = lo; i < hi; i++) left += lt_bvh_goes_left(b, i, split);
+    lt_box cbox[2] = {lt_box_empty(), lt_box_empty()};
+    for (lt_i32 i = lo; i < hi; i++) {
+      int goes_left = lt_bvh_goes_left(b, i, split);
+      lt_bvh_grow_centroid(b, b->index[i], &cbox[goes_left ? 0 : 1]);
+      left += goes_left;
+    }
     b->chunk_left[lo] = left;
+    lt_slab_grow_box(slab, 1, &cbox[0]);
+    lt_slab_grow_box(slab, 3, &cbox[1]);
   } else if (phase == LT_BVH_SCATTER) {
     /* This chunk's place: the left-hand counts of the chunks before it, in order. */
     lt_i32 split = task->work[W_SPLIT], left = begin, right = begin + task->work[W_LEFT];
@@ -272,13 +299,10 @@ LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, in
     lt_box box[2], cbox[2];
     lt_bvh_bound_range(b, lo, hi < mid ? hi : mid, &box[0], &cbox[0]);
     lt_bvh_bound_range(b, lo > mid ? lo : mid, hi, &box[1], &cbox[1]);
-    for (int side = 0; side < 2; side++)
-      for (int k = 0; k < 3; k++) {
-        lt_atomic_min_i32(&slab[12 * side + k], lt_ordered(box[side].lo[k]));
-        lt_atomic_max_i32(&slab[12 * side + 3 + k], lt_ordered(box[side].hi[k]));
-        lt_atomic_min_i32(&slab[12 * side + 6 + k], lt_ordered(cbox[side].lo[k]));
-        lt_atomic_max_i32(&slab[12 * side + 9 + k], lt_ordered(cbox[side].hi[k]));
-      }
+    for (int side = 0; side < 2; side++) {
+      lt_slab_grow_box(slab, 2 * side, &box[side]);
+      lt_slab_grow_box(slab, 2 * side + 1, &cbox[side]);
+    }
   }
 }
 
@@ -316,10 +340,7 @@ LT_DEVICE void lt_bvh_end_phase(const lt_bvh_build *b, lt_i32 slot) {
       lt_bvh_small(b, slot);
       return;
     }
-    lt_i32 bins[LT_BINS_SIZE];
-    lt_bins_clear(bins);
-    LT_GLOBAL lt_i32 *fresh = b->slabs + s * LT_BVH_SLAB_SIZE;
-    for (int i = 0; i < LT_BINS_SIZE; i++) lt_atomic_store_i32(&fresh[i], bins[i]);
+    lt_bins_clear_global(b->slabs + s * LT_BVH_SLAB_SIZE);
     lt_pool_next_phase(&b->pool, slot, LT_BVH_BIN, chunks);
     return;
   }
@@ -328,7 +349,7 @@ LT_DEVICE void lt_bvh_end_phase(const lt_bvh_build *b, lt_i32 slot) {
   if (phase == LT_BVH_BIN) {
     /* Price the splits from the merged bins; keep the outcome in the slab. */
     lt_i32 bins[LT_BINS_SIZE];
-    for (int i = 0; i < LT_BINS_SIZE; i++) bins[i] = lt_atomic_load_i32(&slab[i]);
+    lt_bins_from_global(bins, slab);
     lt_box bounds = lt_load_box(task->work + W_BOUNDS);
     lt_split s = lt_sah_best_split(bins, b->bins, &bounds, b->traversal_cost, b->intersection_cost);
     lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)n);
@@ -347,8 +368,10 @@ LT_DEVICE void lt_bvh_end_phase(const lt_bvh_build *b, lt_i32 slot) {
       lt_pool_next_phase(&b->pool, slot, LT_BVH_BOXES, chunks);
       return;
     }
-    lt_slab_put_box(slab, 0, &s.left), lt_slab_put_box(slab, 1, &s.cleft);
-    lt_slab_put_box(slab, 2, &s.right), lt_slab_put_box(slab, 3, &s.cright);
+    /* Both sides' boxes; their centroid boxes start empty and COUNT grows them. */
+    lt_box empty = lt_box_empty();
+    lt_slab_put_box(slab, 0, &s.left), lt_slab_put_box(slab, 1, &empty);
+    lt_slab_put_box(slab, 2, &s.right), lt_slab_put_box(slab, 3, &empty);
     task->work[W_SPLIT] = s.axis * 64 + s.bin;
     task->work[W_LEFT] = s.left_count;
     lt_pool_next_phase(&b->pool, slot, LT_BVH_COUNT, chunks);

@@ -1,15 +1,15 @@
 /* Binned SAH split search shared by the host builder and the pool's node tasks (Wald 2007;
  * the on-demand paper, section 3.4: 32 bins, object median when SAH finds no split).
- * Bins are ints so that the same layout serves private arrays and global slabs that chunks
- * merge into with atomics: floats are stored in an order-preserving int encoding, so that
- * min and max are integer min and max, and the result does not depend on the merge order. */
+ * Private bins hold float bits; the global slabs that chunks merge into hold the same floats
+ * in an order-preserving int encoding, so that atomic integer min and max merge them and the
+ * result does not depend on the merge order. */
 #ifndef LT_SAH_BINS_H
 #define LT_SAH_BINS_H
 
 #include "kernels/compat.h"
 
 #define LT_MAX_BINS 32
-#define LT_BIN_STRIDE 13 /* count, box lo xyz, box hi xyz, centroid lo xyz, centroid hi xyz */
+#define LT_BIN_STRIDE 7 /* count, box lo xyz, box hi xyz */
 #define LT_BINS_SIZE (3 * LT_MAX_BINS * LT_BIN_STRIDE)
 
 /* An int whose order is the float's order (for every non-NaN float). */
@@ -72,28 +72,21 @@ LT_DEVICE void lt_bins_clear(lt_i32 *bins) {
   for (int i = 0; i < 3 * LT_MAX_BINS; i++) {
     lt_i32 *b = bins + i * LT_BIN_STRIDE;
     b[0] = 0;
-    for (int k = 0; k < 3; k++) {
-      b[1 + k] = b[7 + k] = lt_ordered(INFINITY);
-      b[4 + k] = b[10 + k] = lt_ordered(-INFINITY);
-    }
+    for (int k = 0; k < 3; k++) b[1 + k] = lt_float_as_int(INFINITY), b[4 + k] = lt_float_as_int(-INFINITY);
   }
 }
 
 /* Adds one primitive to its bin on every axis that has an extent. */
 LT_DEVICE void lt_bins_add(lt_i32 *bins, const lt_box *cbounds, const float scale[3], int nbins, const lt_box *box,
                            const float centroid[3]) {
-  /* The order-preserving ints once per primitive, not once per axis. */
-  lt_i32 lo[3], hi[3], c[3];
-  for (int k = 0; k < 3; k++) lo[k] = lt_ordered(box->lo[k]), hi[k] = lt_ordered(box->hi[k]), c[k] = lt_ordered(centroid[k]);
   for (int axis = 0; axis < 3; axis++) {
     if (scale[axis] == 0.0f) continue;
     lt_i32 *b = bins + (axis * LT_MAX_BINS + lt_bin_of(centroid[axis], cbounds->lo[axis], scale[axis], nbins)) * LT_BIN_STRIDE;
     b[0]++;
     for (int k = 0; k < 3; k++) {
-      b[1 + k] = lo[k] < b[1 + k] ? lo[k] : b[1 + k];
-      b[4 + k] = hi[k] > b[4 + k] ? hi[k] : b[4 + k];
-      b[7 + k] = c[k] < b[7 + k] ? c[k] : b[7 + k];
-      b[10 + k] = c[k] > b[10 + k] ? c[k] : b[10 + k];
+      float lo = lt_int_as_float(b[1 + k]), hi = lt_int_as_float(b[4 + k]);
+      b[1 + k] = lt_float_as_int(box->lo[k] < lo ? box->lo[k] : lo);
+      b[4 + k] = lt_float_as_int(box->hi[k] > hi ? box->hi[k] : hi);
     }
   }
 }
@@ -106,18 +99,37 @@ LT_DEVICE void lt_bins_merge_global(LT_GLOBAL lt_i32 *slab, const lt_i32 *bins) 
     LT_GLOBAL lt_i32 *s = slab + i * LT_BIN_STRIDE;
     lt_atomic_add_i32(&s[0], b[0]);
     for (int k = 0; k < 3; k++) {
-      lt_atomic_min_i32(&s[1 + k], b[1 + k]);
-      lt_atomic_max_i32(&s[4 + k], b[4 + k]);
-      lt_atomic_min_i32(&s[7 + k], b[7 + k]);
-      lt_atomic_max_i32(&s[10 + k], b[10 + k]);
+      lt_atomic_min_i32(&s[1 + k], lt_ordered(lt_int_as_float(b[1 + k])));
+      lt_atomic_max_i32(&s[4 + k], lt_ordered(lt_int_as_float(b[4 + k])));
     }
   }
 }
 
-/* Accumulated box (or centroid box, at offset 7) of a bin. */
-LT_DEVICE void lt_bin_grow(lt_box *acc, const lt_i32 *b, int offset) {
+/* A cleared global slab, in the slab's encoding. */
+LT_DEVICE void lt_bins_clear_global(LT_GLOBAL lt_i32 *slab) {
+  for (int i = 0; i < 3 * LT_MAX_BINS; i++) {
+    LT_GLOBAL lt_i32 *s = slab + i * LT_BIN_STRIDE;
+    lt_atomic_store_i32(&s[0], 0);
+    for (int k = 0; k < 3; k++) {
+      lt_atomic_store_i32(&s[1 + k], lt_ordered(INFINITY));
+      lt_atomic_store_i32(&s[4 + k], lt_ordered(-INFINITY));
+    }
+  }
+}
+
+/* A slab's merged bins back in the private (float bits) form. */
+LT_DEVICE void lt_bins_from_global(lt_i32 *bins, LT_GLOBAL lt_i32 *slab) {
+  for (int i = 0; i < 3 * LT_MAX_BINS; i++) {
+    bins[i * LT_BIN_STRIDE] = lt_atomic_load_i32(&slab[i * LT_BIN_STRIDE]);
+    for (int k = 1; k < LT_BIN_STRIDE; k++)
+      bins[i * LT_BIN_STRIDE + k] = lt_float_as_int(lt_unordered(lt_atomic_load_i32(&slab[i * LT_BIN_STRIDE + k])));
+  }
+}
+
+/* Accumulated box of a bin. */
+LT_DEVICE void lt_bin_grow(lt_box *acc, const lt_i32 *b) {
   lt_box o;
-  for (int k = 0; k < 3; k++) o.lo[k] = lt_unordered(b[offset + k]), o.hi[k] = lt_unordered(b[offset + 3 + k]);
+  for (int k = 0; k < 3; k++) o.lo[k] = lt_int_as_float(b[1 + k]), o.hi[k] = lt_int_as_float(b[4 + k]);
   lt_box_grow(acc, &o);
 }
 
@@ -127,7 +139,7 @@ typedef struct lt_split {
   float cost;             /* SAH cost relative to one triangle test, FLT_MAX-like if none */
   int left_count;
   lt_box left, right;     /* primitive bounds of each side */
-  lt_box cleft, cright;   /* centroid bounds of each side */
+  lt_box cleft, cright;   /* centroid bounds of each side: filled by the partition */
 } lt_split;
 
 /* Prices every bin boundary on every axis; keeps the cheapest (the first on ties, axes in
@@ -147,7 +159,7 @@ LT_DEVICE lt_split lt_sah_best_split(const lt_i32 *bins, int nbins, const lt_box
     int n = 0;
     for (int i = nbins - 1; i > 0; i--) {
       n += ab[i * LT_BIN_STRIDE];
-      if (ab[i * LT_BIN_STRIDE]) lt_bin_grow(&acc, ab + i * LT_BIN_STRIDE, 1);
+      if (ab[i * LT_BIN_STRIDE]) lt_bin_grow(&acc, ab + i * LT_BIN_STRIDE);
       right_area[i] = lt_box_area(&acc);
       right_count[i] = n;
     }
@@ -157,7 +169,7 @@ LT_DEVICE lt_split lt_sah_best_split(const lt_i32 *bins, int nbins, const lt_box
     n = 0;
     for (int i = 0; i < nbins - 1; i++) {
       n += ab[i * LT_BIN_STRIDE];
-      if (ab[i * LT_BIN_STRIDE]) lt_bin_grow(&acc, ab + i * LT_BIN_STRIDE, 1);
+      if (ab[i * LT_BIN_STRIDE]) lt_bin_grow(&acc, ab + i * LT_BIN_STRIDE);
       if (n == 0 || right_count[i + 1] == 0) continue;
       float cost = traversal_cost +
                    intersection_cost * (lt_box_area(&acc) * n + right_area[i + 1] * right_count[i + 1]) / parent_area;
@@ -166,14 +178,11 @@ LT_DEVICE lt_split lt_sah_best_split(const lt_i32 *bins, int nbins, const lt_box
   }
   if (best.axis < 0) return best;
 
-  /* Both sides' primitive and centroid bounds, from the chosen axis's bins. */
+  /* Both sides' primitive bounds, from the chosen axis's bins. */
   const lt_i32 *ab = bins + best.axis * LT_MAX_BINS * LT_BIN_STRIDE;
   best.left = best.right = best.cleft = best.cright = lt_box_empty();
-  for (int i = 0; i < nbins; i++) {
-    if (!ab[i * LT_BIN_STRIDE]) continue;
-    lt_bin_grow(i <= best.bin ? &best.left : &best.right, ab + i * LT_BIN_STRIDE, 1);
-    lt_bin_grow(i <= best.bin ? &best.cleft : &best.cright, ab + i * LT_BIN_STRIDE, 7);
-  }
+  for (int i = 0; i < nbins; i++)
+    if (ab[i * LT_BIN_STRIDE]) lt_bin_grow(i <= best.bin ? &best.left : &best.right, ab + i * LT_BIN_STRIDE);
   return best;
 }
 

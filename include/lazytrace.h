@@ -135,6 +135,19 @@ const char *lt_generator_names(void);
 /* Primary rays through pixel centres, row by row from the top; out holds width*height rays. */
 void lt_camera_primary_rays(const lt_camera *camera, int width, int height, lt_ray *out);
 
+/* Ambient-occlusion rays: for every primary hit, `samples` cosine-weighted directions around
+ * the geometric normal (turned towards the viewer), from the hit point, up to `distance`.
+ * out holds count * samples rays; returns how many were written. */
+size_t lt_ao_rays(const lt_scene *scene, const lt_ray *primary, const lt_hit *hits, size_t count, int samples,
+                  float distance, uint64_t seed, lt_ray *out);
+/* Collision agents (the on-demand paper, section 5): paths holds 6 floats per agent, a
+ * segment between two random points of the scene's bounds. */
+void lt_collision_paths(const lt_scene *scene, int agents, uint64_t seed, float *paths);
+/* Frame `frame` of `frames`: each agent shoots rays_per_agent rays in uniformly random
+ * directions from its position, bounded by the distance to its next position. */
+void lt_collision_rays(const float *paths, int agents, int rays_per_agent, int frame, int frames, uint64_t seed,
+                       lt_ray *out);
+
 /* ---- Statistics ---- */
 
 typedef struct lt_stats lt_stats;
