@@ -7,11 +7,18 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+struct lt_embree {
+  RTCDevice device;
+  RTCScene scene;
+  int threads;
+};
+
 typedef struct job {
   RTCScene scene;
   const lt_ray *rays;
   lt_hit *hits;
   size_t begin, end;
+  int any;
 } job;
 
 static void *trace_range(void *p) {
@@ -25,6 +32,11 @@ static void *trace_range(void *p) {
     rh.ray.dir_x = r->dir[0], rh.ray.dir_y = r->dir[1], rh.ray.dir_z = r->dir[2];
     rh.ray.tnear = r->tmin, rh.ray.tfar = r->tmax, rh.ray.mask = 0xffffffff;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    if (j->any) {
+      rtcOccluded1(j->scene, &context, &rh.ray);
+      j->hits[i] = (lt_hit){rh.ray.tfar, 0, 0, rh.ray.tfar < 0 ? 0 : -1}; /* Embree marks occlusion by tfar = -inf */
+      continue;
+    }
     rtcIntersect1(j->scene, &context, &rh);
     int hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
     j->hits[i] = (lt_hit){hit ? rh.ray.tfar : INFINITY, hit ? rh.hit.u : 0, hit ? rh.hit.v : 0, hit ? (int32_t)rh.hit.primID : -1};
@@ -32,43 +44,58 @@ static void *trace_range(void *p) {
   return NULL;
 }
 
-int lt_embree_run(const lt_scene *scene, const lt_ray *rays, size_t count, int threads, lt_hit *hits,
-                  lt_embree_times *times) {
+lt_embree *lt_embree_build(const lt_scene *scene, int threads, double *build_ms) {
   char config[64];
   snprintf(config, sizeof config, "threads=%d", threads);
-  RTCDevice device = rtcNewDevice(config);
-  if (!device) return 1;
+  lt_embree *e = calloc(1, sizeof *e);
+  if (!e || !(e->device = rtcNewDevice(config))) return free(e), NULL;
+  e->threads = threads < 64 ? threads : 64;
 
   /* Build: copy the triangles into Embree's buffers and commit, timed together. */
   double start = lt_now_ms();
   size_t n = lt_scene_triangle_count(scene);
   const float *tris = lt_scene_triangles(scene);
-  RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  RTCGeometry geometry = rtcNewGeometry(e->device, RTC_GEOMETRY_TYPE_TRIANGLE);
   float *vertices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n);
   unsigned *indices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n);
-  if (!vertices || !indices) return rtcReleaseDevice(device), 1;
+  if (!vertices || !indices) return rtcReleaseDevice(e->device), free(e), NULL;
   for (size_t i = 0; i < 9 * n; i++) vertices[i] = tris[i];
   for (size_t i = 0; i < 3 * n; i++) indices[i] = (unsigned)i;
   rtcCommitGeometry(geometry);
-  RTCScene rscene = rtcNewScene(device);
-  rtcSetSceneFlags(rscene, RTC_SCENE_FLAG_ROBUST);
-  rtcAttachGeometry(rscene, geometry);
+  e->scene = rtcNewScene(e->device);
+  rtcSetSceneFlags(e->scene, RTC_SCENE_FLAG_ROBUST);
+  rtcAttachGeometry(e->scene, geometry);
   rtcReleaseGeometry(geometry);
-  rtcCommitScene(rscene);
-  times->build_ms = lt_now_ms() - start;
+  rtcCommitScene(e->scene);
+  *build_ms = lt_now_ms() - start;
+  return e;
+}
 
-  /* Trace: one contiguous range of rays per thread. */
-  start = lt_now_ms();
+double lt_embree_trace(lt_embree *e, const lt_ray *rays, size_t count, int any, lt_hit *hits) {
+  /* One contiguous range of rays per thread. */
+  double start = lt_now_ms();
   pthread_t workers[64];
   job jobs[64];
-  if (threads > 64) threads = 64;
-  for (int t = 0; t < threads; t++) {
-    jobs[t] = (job){rscene, rays, hits, count * t / threads, count * (t + 1) / threads};
+  for (int t = 0; t < e->threads; t++) {
+    jobs[t] = (job){e->scene, rays, hits, count * t / e->threads, count * (t + 1) / e->threads, any};
     pthread_create(&workers[t], NULL, trace_range, &jobs[t]);
   }
-  for (int t = 0; t < threads; t++) pthread_join(workers[t], NULL);
-  times->trace_ms = lt_now_ms() - start;
-  rtcReleaseScene(rscene);
-  rtcReleaseDevice(device);
+  for (int t = 0; t < e->threads; t++) pthread_join(workers[t], NULL);
+  return lt_now_ms() - start;
+}
+
+void lt_embree_release(lt_embree *e) {
+  if (!e) return;
+  rtcReleaseScene(e->scene);
+  rtcReleaseDevice(e->device);
+  free(e);
+}
+
+int lt_embree_run(const lt_scene *scene, const lt_ray *rays, size_t count, int threads, lt_hit *hits,
+                  lt_embree_times *times) {
+  lt_embree *e = lt_embree_build(scene, threads, &times->build_ms);
+  if (!e) return 1;
+  times->trace_ms = lt_embree_trace(e, rays, count, 0, hits);
+  lt_embree_release(e);
   return 0;
 }

@@ -15,4 +15,11 @@ typedef struct lt_embree_times {
 int lt_embree_run(const lt_scene *scene, const lt_ray *rays, size_t count, int threads, lt_hit *hits,
                   lt_embree_times *times);
 
+/* An Embree scene kept across batches (build once, trace several). */
+typedef struct lt_embree lt_embree;
+lt_embree *lt_embree_build(const lt_scene *scene, int threads, double *build_ms);
+/* Closest hit, or any hit (occlusion: prim 0 when occluded, -1 when not) when any is set. */
+double lt_embree_trace(lt_embree *e, const lt_ray *rays, size_t count, int any, lt_hit *hits);
+void lt_embree_release(lt_embree *e);
+
 #endif

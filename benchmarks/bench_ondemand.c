@@ -1,0 +1,287 @@
+/* The on-demand paper's experiments in shape (Vinkler et al. 2016, section 5), with Embree 3
+ * side by side on the same triangles and rays:
+ *
+ *   bench_ondemand table  [--runs R] [--size N] [--ao S] SCENE...   Table 1: time to image
+ *   bench_ondemand sweep  [--runs R] [--size N] [--max M]           Figure 5: house-row:1..M
+ *   bench_ondemand collide [--runs R] SCENE...                      Table 4: collision rays
+ *
+ * Methods: the SAH BVH built in full, requested and speculative modes, the LBVH, Embree.
+ * Every figure is the median of R runs (methods interleaved run by run); the lazytrace hits
+ * are checked against the full build's. Markdown goes to stdout, CSV to --csv FILE. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lazytrace.h"
+#ifdef LT_HAVE_EMBREE
+#include "benchmarks/embree_peer.h"
+#endif
+
+#define MAX_RUNS 16
+#define METHODS 5
+enum { FULL, REQUESTED, SPECULATIVE, LBVH, EMBREE };
+static const char *const method_names[METHODS] = {"full", "requested", "speculative", "lbvh", "embree"};
+
+typedef struct figures {
+  double total[MAX_RUNS], build[MAX_RUNS], trace[MAX_RUNS];
+  double nodes, nodes_full, sort_ops;
+  int ok;
+} figures;
+
+static int compare_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+static double median(const double *v, int n) {
+  double s[MAX_RUNS];
+  memcpy(s, v, n * sizeof *s);
+  qsort(s, n, sizeof *s, compare_double);
+  return n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
+}
+
+/* A sequence of batches traced on one structure: (rays, count, any-hit). */
+typedef struct batch {
+  const lt_ray *rays;
+  size_t count;
+  int any;
+} batch;
+
+static lt_context *native_context(void) {
+  static lt_context *ctx;
+  lt_context_config config = {LT_DEVICE_NATIVE, 0, 0, 0, 1};
+  if (!ctx && lt_context_create(&config, &ctx) != LT_OK) return NULL;
+  return ctx;
+}
+
+/* One run of one method over the batches; hits of the last batch land in `hits`. */
+static int run_method(const lt_scene *scene, int method, const batch *batches, int nbatches, int run, figures *f,
+                      lt_hit *hits) {
+  if (method == EMBREE) {
+#ifdef LT_HAVE_EMBREE
+    double build;
+    lt_embree *e = lt_embree_build(scene, lt_context_work_groups(native_context()), &build);
+    if (!e) return 1;
+    double trace = 0;
+    for (int b = 0; b < nbatches; b++) trace += lt_embree_trace(e, batches[b].rays, batches[b].count, batches[b].any, hits);
+    lt_embree_release(e);
+    f->build[run] = build, f->trace[run] = trace, f->total[run] = build + trace, f->ok = 1;
+    return 0;
+#else
+    return 1;
+#endif
+  }
+  lt_structure_config config = {method == LBVH ? LT_STRUCTURE_LBVH : LT_STRUCTURE_BVH,
+                                method == REQUESTED     ? LT_BUILD_REQUESTED
+                                : method == SPECULATIVE ? LT_BUILD_SPECULATIVE
+                                                        : LT_BUILD_FULL,
+                                16, 32, 1.0f, 0};
+  lt_stats *stats;
+  lt_structure *s;
+  lt_stats_create(&stats);
+  lt_status status = lt_structure_create(native_context(), scene, &config, stats, &s);
+  for (int b = 0; !status && b < nbatches; b++)
+    status = lt_structure_trace(s, batches[b].rays, batches[b].count, batches[b].any ? LT_QUERY_ANY : LT_QUERY_CLOSEST,
+                                hits, stats);
+  if (status) return fprintf(stderr, "%s: %s\n", method_names[method], lt_last_error()), 1;
+  f->total[run] = lt_stats_get(stats, "total_ms");
+  f->build[run] = lt_stats_get(stats, "build_ms");
+  f->trace[run] = lt_stats_get(stats, "trace_ms");
+  f->nodes = lt_stats_get(stats, "nodes_built");
+  f->nodes_full = lt_stats_get(stats, "nodes_full");
+  f->sort_ops = lt_stats_get(stats, "sort_ops");
+  f->ok = 1;
+  lt_structure_destroy(s);
+  lt_stats_destroy(stats);
+  return 0;
+}
+
+/* All methods, interleaved run by run; checks lazytrace's closest hits against the full build. */
+static int run_all(const lt_scene *scene, const batch *batches, int nbatches, int runs, figures *f) {
+  size_t last = batches[nbatches - 1].count, most = 0;
+  for (int b = 0; b < nbatches; b++) most = batches[b].count > most ? batches[b].count : most;
+  lt_hit *ref = malloc((most + 1) * sizeof *ref), *hits = malloc((most + 1) * sizeof *hits);
+  memset(f, 0, METHODS * sizeof *f);
+  for (int run = 0; run < runs; run++)
+    for (int m = 0; m < METHODS; m++) {
+      if (run_method(scene, m, batches, nbatches, run, &f[m], m == FULL ? ref : hits) != 0) continue;
+      int closest = !batches[nbatches - 1].any;
+      if (m != FULL && m != EMBREE && closest)
+        for (size_t i = 0; i < last; i++)
+          if (hits[i].prim != ref[i].prim || (hits[i].prim >= 0 && hits[i].t != ref[i].t))
+            return fprintf(stderr, "%s: hit %zu differs from the full build's\n", method_names[m], i), 1;
+      fprintf(stderr, "    %-11s run %d: %8.1f ms\n", method_names[m], run + 1, f[m].total[run]);
+    }
+  free(ref), free(hits);
+  return 0;
+}
+
+static void csv_row(FILE *csv, const char *scene, const char *camera, const char *workload, const figures *f, int runs) {
+  if (!csv) return;
+  for (int m = 0; m < METHODS; m++)
+    if (f[m].ok)
+      fprintf(csv, "%s,%s,%s,%s,%.2f,%.2f,%.2f,%.0f,%.0f\n", scene, camera, workload, method_names[m],
+              median(f[m].total, runs), median(f[m].build, runs), median(f[m].trace, runs),
+              m == EMBREE ? -1.0 : f[m].nodes, m == EMBREE ? -1.0 : f[m].sort_ops);
+}
+
+static void print_row(const char *label, size_t rays, const figures *f, int runs) {
+  printf("| %s | %.2fM |", label, rays / 1e6);
+  for (int m = 0; m < METHODS; m++) {
+    if (f[m].ok) printf(" %.0f |", median(f[m].total, runs));
+    else printf(" - |");
+  }
+  double full = median(f[FULL].total, runs), req = median(f[REQUESTED].total, runs), spec = median(f[SPECULATIVE].total, runs);
+  double best = req < spec ? req : spec;
+  printf(" %.2f | %.2f |", req / full, spec / full);
+  if (f[EMBREE].ok) printf(" %.2f |", best / median(f[EMBREE].total, runs));
+  else printf(" - |");
+  printf(" %.1f%% |\n", 100.0 * f[REQUESTED].nodes / f[FULL].nodes);
+}
+
+static int table(int argc, char **argv, int runs, int size, int ao, FILE *csv) {
+  printf("| scene@camera, workload | rays | full | requested | speculative | LBVH | Embree | req/full | spec/full |"
+         " best on-demand / Embree | nodes requested / full |\n");
+  printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (int i = 0; i < argc; i++)
+    for (int c = 0; c < 2; c++) {
+      const char *camera = c ? "close" : "outer";
+      lt_scene *scene;
+      char spec[256];
+      snprintf(spec, sizeof spec, "%s@%s", argv[i], camera);
+      if (lt_scene_load(spec, &scene) != LT_OK) return fprintf(stderr, "%s\n", lt_last_error()), 1;
+      fprintf(stderr, "%s (%zu triangles)\n", spec, lt_scene_triangle_count(scene));
+
+      /* Primary rays, then AO rays from their hits (the same for every method). */
+      size_t n = (size_t)size * size;
+      lt_ray *primary = malloc(n * sizeof *primary), *ao_rays = malloc(n * ao * sizeof *ao_rays);
+      lt_hit *hits = malloc(n * sizeof *hits);
+      lt_camera cam = lt_scene_camera(scene);
+      lt_camera_primary_rays(&cam, size, size, primary);
+      batch batches[2] = {{primary, n, 0}, {ao_rays, 0, 1}};
+      figures f[METHODS];
+      if (run_all(scene, batches, 1, runs, f)) return 1;
+      char label[300];
+      snprintf(label, sizeof label, "%s, primary", spec);
+      print_row(label, n, f, runs);
+      csv_row(csv, argv[i], camera, "primary", f, runs);
+
+      lt_structure *full;
+      lt_structure_config fc = {LT_STRUCTURE_BVH, LT_BUILD_FULL, 16, 32, 1.0f, 0};
+      float lo[3], hi[3];
+      lt_scene_bounds(scene, lo, hi);
+      float diag = sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+      lt_structure_create(native_context(), scene, &fc, NULL, &full);
+      lt_structure_trace(full, primary, n, LT_QUERY_CLOSEST, hits, NULL);
+      lt_structure_destroy(full);
+      batches[1].count = lt_ao_rays(scene, primary, hits, n, ao, 0.05f * diag, 1, ao_rays);
+      if (run_all(scene, batches, 2, runs, f)) return 1;
+      snprintf(label, sizeof label, "%s, primary + %d AO", spec, ao);
+      print_row(label, n + batches[1].count, f, runs);
+      csv_row(csv, argv[i], camera, "primary+ao", f, runs);
+      free(primary), free(ao_rays), free(hits);
+      lt_scene_destroy(scene);
+    }
+  return 0;
+}
+
+static int sweep(int runs, int size, int max, FILE *csv) {
+  printf("| houses | triangles | nodes full | nodes requested | nodes speculative | full ms | requested ms |"
+         " speculative ms | LBVH ms | Embree ms |\n|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  int counts[] = {1, 2, 4, 6, 8, 12, 16, 24, 32};
+  for (int i = 0; i < 9 && counts[i] <= max; i++) {
+    char spec[64];
+    snprintf(spec, sizeof spec, "house-row:%d@outer", counts[i]);
+    lt_scene *scene;
+    if (lt_scene_load(spec, &scene) != LT_OK) return fprintf(stderr, "%s\n", lt_last_error()), 1;
+    fprintf(stderr, "%s\n", spec);
+    size_t n = (size_t)size * size;
+    lt_ray *rays = malloc(n * sizeof *rays);
+    lt_camera cam = lt_scene_camera(scene);
+    lt_camera_primary_rays(&cam, size, size, rays);
+    batch b = {rays, n, 0};
+    figures f[METHODS];
+    if (run_all(scene, &b, 1, runs, f)) return 1;
+    printf("| %d | %zu | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f |\n", counts[i],
+           lt_scene_triangle_count(scene), f[FULL].nodes, f[REQUESTED].nodes, f[SPECULATIVE].nodes,
+           median(f[FULL].total, runs), median(f[REQUESTED].total, runs), median(f[SPECULATIVE].total, runs),
+           median(f[LBVH].total, runs), f[EMBREE].ok ? median(f[EMBREE].total, runs) : -1.0);
+    if (csv)
+      fprintf(csv, "%d,%zu,%.0f,%.0f,%.0f,%.2f,%.2f,%.2f,%.2f,%.2f\n", counts[i], lt_scene_triangle_count(scene),
+              f[FULL].nodes, f[REQUESTED].nodes, f[SPECULATIVE].nodes, median(f[FULL].total, runs),
+              median(f[REQUESTED].total, runs), median(f[SPECULATIVE].total, runs), median(f[LBVH].total, runs),
+              f[EMBREE].ok ? median(f[EMBREE].total, runs) : -1.0);
+    free(rays);
+    lt_scene_destroy(scene);
+  }
+  return 0;
+}
+
+/* Table 4: every frame rebuilds from scratch and traces 800 short rays. */
+static int collide(int argc, char **argv, int runs, FILE *csv) {
+  const int agents = 100, per_agent = 8, frames = 20;
+  printf("| scene | triangles | full ms | requested ms | speculative ms | LBVH ms | Embree ms | best on-demand / full |"
+         " best on-demand / LBVH | nodes requested per frame |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (int i = 0; i < argc; i++) {
+    lt_scene *scene;
+    if (lt_scene_load(argv[i], &scene) != LT_OK) return fprintf(stderr, "%s\n", lt_last_error()), 1;
+    fprintf(stderr, "%s collision\n", argv[i]);
+    float *paths = malloc(6 * sizeof(float) * agents);
+    lt_ray *rays = malloc((size_t)agents * per_agent * sizeof *rays);
+    lt_hit *hits = malloc((size_t)agents * per_agent * sizeof *hits);
+    lt_collision_paths(scene, agents, 42, paths);
+    figures f[METHODS];
+    memset(f, 0, sizeof f);
+    for (int run = 0; run < runs; run++)
+      for (int m = 0; m < METHODS; m++) {
+        figures frame;
+        double total = 0, nodes = 0;
+        int failed = 0;
+        for (int fr = 0; fr < frames && !failed; fr++) {
+          lt_collision_rays(paths, agents, per_agent, fr, frames, 43, rays);
+          batch b = {rays, (size_t)agents * per_agent, 0};
+          memset(&frame, 0, sizeof frame);
+          failed = run_method(scene, m, &b, 1, 0, &frame, hits);
+          total += frame.total[0], nodes += frame.nodes;
+        }
+        if (failed) continue;
+        f[m].total[run] = total, f[m].nodes = nodes / frames, f[m].ok = 1;
+        fprintf(stderr, "    %-11s run %d: %8.1f ms\n", method_names[m], run + 1, total);
+      }
+    double full = median(f[FULL].total, runs), req = median(f[REQUESTED].total, runs);
+    double spec = median(f[SPECULATIVE].total, runs), best = req < spec ? req : spec;
+    double lbvh = median(f[LBVH].total, runs), embree = f[EMBREE].ok ? median(f[EMBREE].total, runs) : -1;
+    printf("| %s | %zu | %.0f | %.0f | %.0f | %.0f | %.0f | %.2f | %.2f | %.0f |\n", argv[i],
+           lt_scene_triangle_count(scene), full, req, spec, lbvh, embree, best / full, best / lbvh, f[REQUESTED].nodes);
+    if (csv) fprintf(csv, "%s,%.2f,%.2f,%.2f,%.2f,%.2f\n", argv[i], full, req, spec, lbvh, embree);
+    free(paths), free(rays), free(hits);
+    lt_scene_destroy(scene);
+  }
+  return 0;
+}
+
+int main(int argc, char **argv) {
+  if (argc < 2) return fprintf(stderr, "usage: bench_ondemand table|sweep|collide [options] [SCENE...]\n"), 2;
+  int runs = 3, size = 1024, ao = 8, max = 16, nscenes = 0;
+  const char *csv_path = NULL;
+  char *scenes[64];
+  for (int i = 2; i < argc; i++) {
+    if (strcmp(argv[i], "--runs") == 0 && i + 1 < argc) runs = atoi(argv[++i]);
+    else if (strcmp(argv[i], "--size") == 0 && i + 1 < argc) size = atoi(argv[++i]);
+    else if (strcmp(argv[i], "--ao") == 0 && i + 1 < argc) ao = atoi(argv[++i]);
+    else if (strcmp(argv[i], "--max") == 0 && i + 1 < argc) max = atoi(argv[++i]);
+    else if (strcmp(argv[i], "--csv") == 0 && i + 1 < argc) csv_path = argv[++i];
+    else if (argv[i][0] != '-' && nscenes < 64) scenes[nscenes++] = argv[i];
+    else return fprintf(stderr, "bench_ondemand: unknown option %s\n", argv[i]), 2;
+  }
+  if (runs < 1 || runs > MAX_RUNS || size < 1 || ao < 1) return fprintf(stderr, "bench_ondemand: bad option value\n"), 2;
+  if (!native_context()) return fprintf(stderr, "%s\n", lt_last_error()), 1;
+  FILE *csv = csv_path ? fopen(csv_path, "w") : NULL;
+  int rc;
+  if (strcmp(argv[1], "table") == 0) rc = table(nscenes, scenes, runs, size, ao, csv);
+  else if (strcmp(argv[1], "sweep") == 0) rc = sweep(runs, size, max, csv);
+  else if (strcmp(argv[1], "collide") == 0) rc = collide(nscenes, scenes, runs, csv);
+  else rc = (fprintf(stderr, "bench_ondemand: unknown experiment %s\n", argv[1]), 2);
+  if (csv) fclose(csv);
+  return rc;
+}
