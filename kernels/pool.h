@@ -205,16 +205,15 @@ LT_DEVICE lt_i32 lt_pool_take_from(const lt_pool *pool, lt_i32 slot) {
   return -1;
 }
 
-/* Finds a chunk: the prioritisation cache first (requested tasks before speculative ones),
- * then a scan of the pool from a per-work-group starting point. Returns the slot and sets
- * *chunk, or returns -1. */
-LT_DEVICE lt_i32 lt_pool_take(const lt_pool *pool, lt_i32 *chunk) {
-  /* Requested tasks, newest first. */
+/* Finds a chunk in the prioritisation cache only (requested tasks). Returns the slot and
+ * sets *chunk, or returns -1. */
+LT_DEVICE lt_i32 lt_pool_take_requested(const lt_pool *pool, lt_i32 *chunk) {
   lt_i32 put = lt_atomic_load_i32(&pool->control->priority_put);
   lt_i32 tries = put < pool->priority_size ? put : pool->priority_size;
   for (lt_i32 k = 1; k <= tries; k++) {
     lt_i32 slot = lt_atomic_load_i32(&pool->priority_cache[(lt_u32)(put - k) % (lt_u32)pool->priority_size]);
-    if (slot < 0) continue;
+    /* A cached slot may since have been retired and reused by a task nobody asked for. */
+    if (slot < 0 || !(lt_atomic_load_i32(&pool->tasks[slot].flags) & LT_TASK_REQUESTED)) continue;
     lt_i32 c = lt_pool_take_from(pool, slot);
     if (c >= 0) {
       lt_pool_count(pool, LT_POOL_STAT_CACHE_HITS, 1);
@@ -222,6 +221,16 @@ LT_DEVICE lt_i32 lt_pool_take(const lt_pool *pool, lt_i32 *chunk) {
       return slot;
     }
   }
+  return -1;
+}
+
+/* Finds a chunk: the prioritisation cache first (requested tasks before speculative ones),
+ * then a scan of the pool from where work was last found. Returns the slot and sets *chunk,
+ * or returns -1. */
+LT_DEVICE lt_i32 lt_pool_take(const lt_pool *pool, lt_i32 *chunk) {
+  /* Requested tasks, newest first. */
+  lt_i32 slot = lt_pool_take_requested(pool, chunk);
+  if (slot >= 0) return slot;
   lt_pool_count(pool, LT_POOL_STAT_CACHE_MISSES, 1);
 
   /* Any unlocked task, starting where work was last found: tasks inserted together sit
