@@ -265,7 +265,12 @@ LT_DEVICE int lt_pool_finish_chunk(const lt_pool *pool, lt_i32 slot) {
   LT_GLOBAL lt_task *task = &pool->tasks[slot];
   lt_atomic_add_i32(&pool->control->progress, 1);
   lt_pool_count(pool, LT_POOL_STAT_CHUNKS, 1);
-  return lt_atomic_add_i32(&task->done, 1) + 1 == lt_atomic_load_i32(&task->chunks);
+
+  /* The phase's chunk count is read before the increment: once this chunk counts as done,
+   * another work-group may switch the phase, or retire the task and see its slot reused, and
+   * a count read afterwards would be someone else's (two "last" finishers). */
+  lt_i32 chunks = lt_atomic_load_i32(&task->chunks);
+  return lt_atomic_add_i32(&task->done, 1) + 1 == chunks;
 }
 
 /* Switches the task (locked: header 0, all chunks done) to `phase`, of `chunks` chunks. */
