@@ -238,14 +238,7 @@ LT_DEVICE void lt_sort_run(const lt_sort *s, LT_LOCAL lt_sort_shared *sh) {
         }
       }
 
-      /* A search that found nothing while nothing moved anywhere counts towards the cap. */
-      if (sh->batch < 0 && sh->slot < 0 && !sh->quit) {
-        lt_pool_count(pool, LT_POOL_STAT_IDLE, 1);
-        lt_i32 progress = lt_atomic_load_i32(&pool->control->progress);
-        idle = progress == last_progress ? idle + 1 : 0;
-        last_progress = progress;
-        if (idle > s->max_idle_polls) lt_pool_fail(pool, LT_POOL_ERROR_STALL);
-      }
+      if (sh->batch < 0 && sh->slot < 0 && !sh->quit) lt_pool_idle(pool, &idle, &last_progress, s->max_idle_polls);
       if (lt_atomic_load_i32(&pool->control->error) != LT_POOL_OK) sh->quit = 1;
     }
     lt_barrier();

@@ -295,6 +295,17 @@ LT_DEVICE void lt_pool_retire(const lt_pool *pool, lt_i32 slot) {
   lt_atomic_add_i32(&pool->control->outstanding, -1);
 }
 
+/* A search that found nothing: counts towards the stall cap, but only while nothing moved
+ * anywhere (the global progress counter is unchanged since this work-group's last search),
+ * so waiting for another work-group's long batch is not mistaken for a hang. */
+LT_DEVICE void lt_pool_idle(const lt_pool *pool, lt_i32 *idle, lt_i32 *last_progress, lt_i32 max_idle_polls) {
+  lt_pool_count(pool, LT_POOL_STAT_IDLE, 1);
+  lt_i32 progress = lt_atomic_load_i32(&pool->control->progress);
+  *idle = progress == *last_progress ? *idle + 1 : 0;
+  *last_progress = progress;
+  if (*idle > max_idle_polls) lt_pool_fail(pool, LT_POOL_ERROR_STALL);
+}
+
 /* Whether a work-group that has given up its own work may quit: every work-group is out of
  * own work, and in a full build every task is done too (in the level baseline every task of
  * this level); or an error stopped everything. */
