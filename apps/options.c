@@ -93,6 +93,8 @@ int lt_cli_parse(lt_cli *cli, int argc, char **argv) {
       return fprintf(stderr, "lazytrace: unexpected argument '%s' (one SCENE only)\n", arg), 1;
     }
   }
+  /* The LBVH has no on-demand form: asking for it without a build mode means its full build. */
+  if (!cli->build_given && cli->structure.kind == LT_STRUCTURE_LBVH) cli->structure.build = LT_BUILD_FULL;
   return 0;
 }
 

@@ -155,6 +155,8 @@ typedef struct lt_stats lt_stats;
 lt_status lt_stats_create(lt_stats **out);
 void lt_stats_destroy(lt_stats *stats);
 void lt_stats_reset(lt_stats *stats);
+/* Copies every value and name (structure, build, device) of src into dst. */
+void lt_stats_copy(lt_stats *dst, const lt_stats *src);
 /* A counter or time by its contract key ("trace_ms", "nodes_built", "pool.stalls", ...);
  * returns -1 for a key that does not apply (written as null). */
 double lt_stats_get(const lt_stats *stats, const char *key);

@@ -28,6 +28,10 @@ void lt_stats_reset(lt_stats *stats) {
   for (int i = 0; i < LT_STAT_COUNT; i++) stats->value[i] = -1.0;
 }
 
+void lt_stats_copy(lt_stats *dst, const lt_stats *src) {
+  if (dst && src && dst != src) *dst = *src;
+}
+
 static int key_index(const char *key) {
   for (int i = 0; i < LT_STAT_COUNT; i++)
     if (strcmp(key_names[i], key) == 0) return i;

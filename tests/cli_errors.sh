@@ -62,6 +62,16 @@ else
 fi
 OCL_ICD_VENDORS=$T/none expect_error "no OpenCL device: --device opencl fails" "no OpenCL device" trace sphere:2 --rays "$T/one.rays" --hits "$T/x.hits" --device opencl
 
+# collide with the LBVH: its only build mode is taken without --build, and the statistics name
+# the structure, build mode and device of the frames.
+if "$LT" collide sphere:2 --structure lbvh --agents 4 --frames 2 --device native --stats "$T/col.json" 2>"$T/err" >/dev/null &&
+   grep -q '"structure": "lbvh"' "$T/col.json" && grep -q '"build": "full"' "$T/col.json" &&
+   grep -q '"device": "native' "$T/col.json" && grep -q '"rays": 64' "$T/col.json"; then
+  pass "collide --structure lbvh: full build by default, statistics named"
+else
+  fail "collide --structure lbvh: $(head -c 300 "$T/err") $(head -c 300 "$T/col.json" 2>/dev/null)"
+fi
+
 # Help on every command.
 for c in render trace collide scene devices; do
   "$LT" help $c | grep -q "lazytrace $c" && "$LT" $c --help | grep -q "lazytrace $c" && pass "help $c" || fail "help $c"
