@@ -44,10 +44,11 @@ typedef struct lt_bvh_build {
   lt_pool pool;
   LT_GLOBAL const float *verts;  /* 9 per triangle, in scene order (the scene's own array) */
   LT_GLOBAL const float *prim_boxes; /* 6 per triangle: lo xyz, hi xyz (computed once) */
-  LT_GLOBAL lt_i32 *bin_code;    /* per position: the bin on each axis, 8 bits each */
+  LT_GLOBAL lt_i32 *side;        /* per position: 0 left, 1 right of the split (COUNT to SCATTER) */
   LT_GLOBAL lt_i32 *index;       /* primitive references, permuted into leaf order */
   LT_GLOBAL lt_i32 *scratch;     /* room for the partition */
-  LT_GLOBAL lt_i32 *chunk_left;  /* at each chunk's first position: its left-hand count */
+  LT_GLOBAL lt_i32 *chunk_left;  /* at each chunk's first position: its left-hand count, then
+                                  * the left-hand count of the chunks before it */
   LT_GLOBAL lt_bvh_node *nodes;
   LT_GLOBAL lt_i32 *slabs;       /* slab_count bin slabs */
   LT_GLOBAL lt_i32 *slab_used;
@@ -149,8 +150,7 @@ LT_DEVICE void lt_bvh_finish_leaf(const lt_bvh_build *b, lt_i32 slot) {
   lt_pool_retire(&b->pool, slot);
 }
 
-/* Bins the primitives at positions [lo, hi) into private bins, and notes each one's bin on
- * every axis so that the partition need not recompute it. */
+/* Bins the primitives at positions lo, lo + step, ... below hi into private bins. */
 LT_DEVICE void lt_bvh_bin_range(const lt_bvh_build *b, lt_i32 lo, lt_i32 hi, lt_i32 step, const lt_box *cbounds,
                                 lt_i32 *bins) {
   float scale[3];
@@ -160,16 +160,21 @@ LT_DEVICE void lt_bvh_bin_range(const lt_bvh_build *b, lt_i32 lo, lt_i32 hi, lt_
     float c[3];
     lt_prim_bounds(b, b->index[i], &box, c);
     lt_bins_add(bins, cbounds, scale, b->bins, &box, c);
-    lt_i32 code = 0;
-    for (int axis = 0; axis < 3; axis++)
-      if (scale[axis] != 0.0f) code |= lt_bin_of(c[axis], cbounds->lo[axis], scale[axis], b->bins) << (8 * axis);
-    b->bin_code[i] = code;
   }
 }
 
-/* Whether the primitive at position i goes left of split code (axis * 64 + bin). */
-LT_DEVICE int lt_bvh_goes_left(const lt_bvh_build *b, lt_i32 i, lt_i32 split) {
-  return ((b->bin_code[i] >> (8 * (split >> 6))) & 255) <= (split & 63);
+/* The side of split (axis * 64 + bin) a primitive goes to, 0 left or 1 right, as binning put
+ * it; also gives its box and centroid. */
+LT_DEVICE int lt_bvh_side_of(const lt_bvh_build *b, lt_i32 prim, lt_i32 split, const lt_box *cbounds,
+                             const float scale[3], lt_box *box, float c[3]) {
+  lt_prim_bounds(b, prim, box, c);
+  int axis = split >> 6;
+  return lt_bin_of(c[axis], cbounds->lo[axis], scale[axis], b->bins) <= (split & 63) ? 0 : 1;
+}
+
+LT_DEVICE void lt_box_grow_point(lt_box *b, const float c[3]) {
+  lt_box p = {{c[0], c[1], c[2]}, {c[0], c[1], c[2]}};
+  lt_box_grow(b, &p);
 }
 
 /* Bounds and centroid bounds of index[lo, hi). */
@@ -183,15 +188,6 @@ LT_DEVICE void lt_bvh_bound_range(const lt_bvh_build *b, lt_i32 lo, lt_i32 hi, l
     lt_box_grow(box, &pb);
     lt_box_grow(cbox, &cb);
   }
-}
-
-/* Grows a box by a primitive's centroid. */
-LT_DEVICE void lt_bvh_grow_centroid(const lt_bvh_build *b, lt_i32 prim, lt_box *cbox) {
-  lt_box box;
-  float c[3];
-  lt_prim_bounds(b, prim, &box, c);
-  lt_box cb = {{c[0], c[1], c[2]}, {c[0], c[1], c[2]}};
-  lt_box_grow(cbox, &cb);
 }
 
 /* Grows box `i` of a slab's summary (order-preserving ints) with atomics. */
@@ -209,7 +205,7 @@ LT_DEVICE void lt_bvh_small(const lt_bvh_build *b, lt_i32 slot) {
   lt_box bounds = lt_load_box(task->work + W_BOUNDS), cbounds = lt_load_box(task->work + W_CBOUNDS);
   lt_i32 bins[LT_BINS_SIZE];
   lt_bins_clear(bins);
-  lt_bvh_bin_range(b, begin, end, 1, &cbounds, bins);
+  lt_bvh_bin_range(b, begin, end, 1, &cbounds, bins); /* n <= LT_BVH_CHUNK: never sampled */
   lt_split s = lt_sah_best_split(bins, b->bins, &bounds, b->traversal_cost, b->intersection_cost);
   lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)n);
   if (lt_sah_make_leaf(n, task->depth, &s, b->max_leaf, b->intersection_cost, LT_BVH_MAX_DEPTH)) {
@@ -228,12 +224,16 @@ LT_DEVICE void lt_bvh_small(const lt_bvh_build *b, lt_i32 slot) {
 
   /* Stable partition through the scratch array, bounding each side's centroids. */
   lt_i32 split = s.axis * 64 + s.bin, left = begin, right = begin + s.left_count;
+  float scale[3];
+  lt_bin_scale(&cbounds, b->bins, scale);
   for (lt_i32 i = begin; i < end; i++) {
     lt_i32 p = b->index[i];
-    int goes_left = lt_bvh_goes_left(b, i, split);
-    lt_bvh_grow_centroid(b, p, goes_left ? &s.cleft : &s.cright);
-    if (goes_left) b->scratch[left++] = p;
-    else b->scratch[right++] = p;
+    lt_box box;
+    float c[3];
+    int side = lt_bvh_side_of(b, p, split, &cbounds, scale, &box, c);
+    lt_box_grow_point(side ? &s.cright : &s.cleft, c);
+    if (side) b->scratch[right++] = p;
+    else b->scratch[left++] = p;
   }
   for (lt_i32 i = begin; i < end; i++) b->index[i] = b->scratch[i];
   lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)n);
@@ -256,9 +256,12 @@ LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, in
   LT_GLOBAL lt_i32 *slab = b->slabs + (lt_i32)task->work[W_SLAB] * LT_BVH_SLAB_SIZE;
 
   if (phase == LT_BVH_BIN) {
+    /* This chunk's part of the sample: sample j is the primitive at begin + j * step. */
+    lt_i32 step = lt_bin_step(end - begin), samples = lt_bin_sample_count(end - begin);
+    lt_i32 j0 = chunk * LT_BVH_CHUNK, j1 = j0 + LT_BVH_CHUNK < samples ? j0 + LT_BVH_CHUNK : samples;
     lt_i32 bins[LT_BINS_SIZE];
     lt_bins_clear(bins);
-    lt_bvh_bin_range(b, lo + lid, hi, lsize, &cbounds, bins);
+    lt_bvh_bin_range(b, begin + (j0 + lid) * step, begin + j1 * step, lsize * step, &cbounds, bins);
     lt_bins_merge_global(slab, bins);
     return;
   }
@@ -270,28 +273,34 @@ LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, in
    * retire its own task, because its finisher still counts the chunk done afterwards. */
   if (lid != 0 || phase == LT_BVH_SMALL || phase == LT_BVH_INIT) return;
   if (phase == LT_BVH_COUNT) {
-    /* Count the left-hand primitives, and bound both sides' centroids for the children. */
+    /* Each primitive's side, the left-hand count, and both sides' boxes and centroid boxes
+     * for the children, exact over every primitive (binning may have seen a sample). */
     lt_i32 split = task->work[W_SPLIT], left = 0;
-    lt_box cbox[2] = {lt_box_empty(), lt_box_empty()};
+    float scale[3];
+    lt_bin_scale(&cbounds, b->bins, scale);
+    lt_box box[2] = {lt_box_empty(), lt_box_empty()}, cbox[2] = {lt_box_empty(), lt_box_empty()};
     for (lt_i32 i = lo; i < hi; i++) {
-      int goes_left = lt_bvh_goes_left(b, i, split);
-      lt_bvh_grow_centroid(b, b->index[i], &cbox[goes_left ? 0 : 1]);
-      left += goes_left;
+      lt_box pb;
+      float c[3];
+      int side = lt_bvh_side_of(b, b->index[i], split, &cbounds, scale, &pb, c);
+      lt_box_grow(&box[side], &pb);
+      lt_box_grow_point(&cbox[side], c);
+      b->side[i] = side;
+      left += 1 - side;
     }
     b->chunk_left[lo] = left;
-    lt_slab_grow_box(slab, 1, &cbox[0]);
-    lt_slab_grow_box(slab, 3, &cbox[1]);
-  } else if (phase == LT_BVH_SCATTER) {
-    /* This chunk's place: the left-hand counts of the chunks before it, in order. */
-    lt_i32 split = task->work[W_SPLIT], left = begin, right = begin + task->work[W_LEFT];
-    for (lt_i32 c = 0; c < chunk; c++) {
-      lt_i32 l = b->chunk_left[begin + c * LT_BVH_CHUNK];
-      left += l, right += LT_BVH_CHUNK - l;
+    for (int side = 0; side < 2; side++) {
+      lt_slab_grow_box(slab, 2 * side, &box[side]);
+      lt_slab_grow_box(slab, 2 * side + 1, &cbox[side]);
     }
+  } else if (phase == LT_BVH_SCATTER) {
+    /* This chunk's place: COUNT's end turned the chunks' left-hand counts into prefix sums. */
+    lt_i32 before = b->chunk_left[lo];
+    lt_i32 left = begin + before, right = begin + task->work[W_LEFT] + (lo - begin - before);
     for (lt_i32 i = lo; i < hi; i++) {
       lt_i32 p = b->index[i];
-      if (lt_bvh_goes_left(b, i, split)) b->scratch[left++] = p;
-      else b->scratch[right++] = p;
+      if (b->side[i]) b->scratch[right++] = p;
+      else b->scratch[left++] = p;
     }
   } else if (phase == LT_BVH_BOXES) {
     /* Both halves of the object median, merged into the slab's first four boxes. */
@@ -341,7 +350,7 @@ LT_DEVICE void lt_bvh_end_phase(const lt_bvh_build *b, lt_i32 slot) {
       return;
     }
     lt_bins_clear_global(b->slabs + s * LT_BVH_SLAB_SIZE);
-    lt_pool_next_phase(&b->pool, slot, LT_BVH_BIN, chunks);
+    lt_pool_next_phase(&b->pool, slot, LT_BVH_BIN, (lt_bin_sample_count(n) + LT_BVH_CHUNK - 1) / LT_BVH_CHUNK);
     return;
   }
   LT_GLOBAL lt_i32 *slab = b->slabs + task->work[W_SLAB] * LT_BVH_SLAB_SIZE;
@@ -352,7 +361,7 @@ LT_DEVICE void lt_bvh_end_phase(const lt_bvh_build *b, lt_i32 slot) {
     lt_bins_from_global(bins, slab);
     lt_box bounds = lt_load_box(task->work + W_BOUNDS);
     lt_split s = lt_sah_best_split(bins, b->bins, &bounds, b->traversal_cost, b->intersection_cost);
-    lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)n);
+    lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)lt_bin_sample_count(n));
     if (lt_sah_make_leaf(n, task->depth, &s, b->max_leaf, b->intersection_cost, LT_BVH_MAX_DEPTH)) {
       lt_bvh_release_slab(b, task);
       lt_bvh_finish_leaf(b, slot);
@@ -368,14 +377,21 @@ LT_DEVICE void lt_bvh_end_phase(const lt_bvh_build *b, lt_i32 slot) {
       lt_pool_next_phase(&b->pool, slot, LT_BVH_BOXES, chunks);
       return;
     }
-    /* Both sides' boxes; their centroid boxes start empty and COUNT grows them. */
+    /* Both sides' boxes and centroid boxes start empty; COUNT grows them. */
     lt_box empty = lt_box_empty();
-    lt_slab_put_box(slab, 0, &s.left), lt_slab_put_box(slab, 1, &empty);
-    lt_slab_put_box(slab, 2, &s.right), lt_slab_put_box(slab, 3, &empty);
+    for (int i = 0; i < 4; i++) lt_slab_put_box(slab, i, &empty);
     task->work[W_SPLIT] = s.axis * 64 + s.bin;
-    task->work[W_LEFT] = s.left_count;
     lt_pool_next_phase(&b->pool, slot, LT_BVH_COUNT, chunks);
   } else if (phase == LT_BVH_COUNT) {
+    /* The chunks' left-hand counts become prefix sums: where each chunk's left side starts. */
+    lt_fence();
+    lt_i32 left = 0;
+    for (lt_i32 c = 0; c < chunks; c++) {
+      lt_i32 l = b->chunk_left[begin + c * LT_BVH_CHUNK];
+      b->chunk_left[begin + c * LT_BVH_CHUNK] = left;
+      left += l;
+    }
+    task->work[W_LEFT] = left;
     lt_pool_next_phase(&b->pool, slot, LT_BVH_SCATTER, chunks);
   } else if (phase == LT_BVH_SCATTER) {
     lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)n);

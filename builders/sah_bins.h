@@ -12,6 +12,18 @@
 #define LT_BIN_STRIDE 7 /* count, box lo xyz, box hi xyz */
 #define LT_BINS_SIZE (3 * LT_MAX_BINS * LT_BIN_STRIDE)
 
+/* A node of more primitives than LT_BIN_SAMPLES prices its splits on a regular sample: every
+ * step-th primitive in the node's order, at most LT_BIN_SAMPLES of them. The split's position
+ * is then a little less precise, but the partition, the children's boxes and their counts are
+ * exact (computed over every primitive), and at the top levels, which every ray reaches, the
+ * binning pass costs a bounded amount instead of a pass over the whole scene per level. */
+#define LT_BIN_SAMPLES 16384
+LT_DEVICE int lt_bin_step(int n) { return n > LT_BIN_SAMPLES ? (n + LT_BIN_SAMPLES - 1) / LT_BIN_SAMPLES : 1; }
+LT_DEVICE int lt_bin_sample_count(int n) {
+  int step = lt_bin_step(n);
+  return (n + step - 1) / step;
+}
+
 /* An int whose order is the float's order (for every non-NaN float). */
 LT_DEVICE lt_i32 lt_ordered(float f) {
   lt_i32 b = lt_float_as_int(f);
@@ -137,8 +149,8 @@ LT_DEVICE void lt_bin_grow(lt_box *acc, const lt_i32 *b) {
 typedef struct lt_split {
   int axis, bin;          /* primitives in bins [0, bin] of axis go left; axis -1: no split */
   float cost;             /* SAH cost relative to one triangle test, FLT_MAX-like if none */
-  int left_count;
-  lt_box left, right;     /* primitive bounds of each side */
+  int left_count;         /* of the primitives binned (all, unless the node was sampled) */
+  lt_box left, right;     /* bounds of each side's binned primitives */
   lt_box cleft, cright;   /* centroid bounds of each side: filled by the partition */
 } lt_split;
 

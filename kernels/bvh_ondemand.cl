@@ -7,7 +7,7 @@ __kernel void lt_bvh_ondemand(__global int *headers, __global lt_task *tasks, __
                               __global int *priority_cache, __global lt_pool_control *control,
                               __global uint *stats, __global int *order, int4 sizes, int mode,
                               __global const float *verts, __global const float *prim_boxes,
-                              __global int *bin_code, __global int *index, __global int *scratch,
+                              __global int *side, __global int *index, __global int *scratch,
                               __global int *chunk_left, __global lt_bvh_node *nodes, __global int *slabs,
                               __global int *slab_used, __global uint *counters, int4 build_sizes,
                               float2 costs, __global const float *rays, __global lt_hit_record *hits,
@@ -19,7 +19,7 @@ __kernel void lt_bvh_ondemand(__global int *headers, __global lt_task *tasks, __
   pool->priority_cache = priority_cache, pool->control = control, pool->stats = stats, pool->order = order;
   pool->capacity = sizes.x, pool->empty_size = sizes.y, pool->priority_size = sizes.z, pool->order_size = sizes.w;
   pool->mode = mode;
-  a.build.verts = verts, a.build.prim_boxes = prim_boxes, a.build.bin_code = bin_code, a.build.index = index, a.build.scratch = scratch, a.build.chunk_left = chunk_left;
+  a.build.verts = verts, a.build.prim_boxes = prim_boxes, a.build.side = side, a.build.index = index, a.build.scratch = scratch, a.build.chunk_left = chunk_left;
   a.build.nodes = nodes, a.build.slabs = slabs, a.build.slab_used = slab_used, a.build.counters = counters;
   a.build.slab_count = build_sizes.x, a.build.node_capacity = build_sizes.y;
   a.build.max_leaf = build_sizes.z, a.build.bins = build_sizes.w;

@@ -57,7 +57,7 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
     if (!status) status = lt__buffer_end_write(ctx, &od->prim_boxes, boxes);
     if (!status) status = lt__buffer_end_write(ctx, &od->index, index);
   }
-  if (!status) status = lt__buffer_create(ctx, &od->bin_code, n * 4, NULL, LT_BUFFER_UNINIT);
+  if (!status) status = lt__buffer_create(ctx, &od->side, n * 4, NULL, LT_BUFFER_UNINIT);
   if (!status) status = lt__buffer_create(ctx, &od->scratch, n * 4, NULL, LT_BUFFER_UNINIT);
   if (!status) status = lt__buffer_create(ctx, &od->chunk_left, n * 4, NULL, LT_BUFFER_UNINIT);
   if (!status)
@@ -104,7 +104,7 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
 
 void lt__ondemand_release(lt__ondemand *od) {
   lt__pool_release(&od->pool);
-  lt__buffer *buffers[] = {&od->verts, &od->prim_boxes, &od->bin_code,  &od->index,   &od->scratch,
+  lt__buffer *buffers[] = {&od->verts, &od->prim_boxes, &od->side,  &od->index,   &od->scratch,
                            &od->chunk_left, &od->nodes, &od->slabs, &od->slab_used, &od->counters};
   for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++) lt__buffer_release(buffers[i]);
 }
@@ -117,7 +117,7 @@ static lt_status launch_opencl(lt__ondemand *od, lt__buffer *rays, lt__buffer *h
   cl_float2 costs = {{od->sah.traversal_cost, od->sah.intersection_cost}};
   lt_status status = lt__pool_set_args(&od->pool, k);
   if (status) return status;
-  lt__buffer *buffers[] = {&od->verts, &od->prim_boxes, &od->bin_code,  &od->index,   &od->scratch,
+  lt__buffer *buffers[] = {&od->verts, &od->prim_boxes, &od->side,  &od->index,   &od->scratch,
                            &od->chunk_left, &od->nodes, &od->slabs, &od->slab_used, &od->counters};
   cl_int err = CL_SUCCESS;
   for (int i = 0; i < 10; i++) err |= clSetKernelArg(k, 9 + i, sizeof(cl_mem), &buffers[i]->mem);
@@ -137,7 +137,7 @@ static lt_status launch_opencl(lt__ondemand *od, lt__buffer *rays, lt__buffer *h
 
 static lt_status launch_native(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, cl_int4 trace) {
   lt_od_trace_args a;
-  a.build = (lt_bvh_build){lt__pool_native_view(&od->pool), od->verts.host, od->prim_boxes.host, od->bin_code.host,
+  a.build = (lt_bvh_build){lt__pool_native_view(&od->pool), od->verts.host, od->prim_boxes.host, od->side.host,
                            od->index.host, od->scratch.host,
                            od->chunk_left.host, od->nodes.host, od->slabs.host, od->slab_used.host,
                            od->counters.host, od->slab_count, od->node_capacity, od->sah.max_leaf_size,
@@ -224,6 +224,6 @@ double lt__ondemand_bytes(const lt__ondemand *od, double *node_bytes, double *re
   *reference_bytes = (double)od->index.bytes;
   *pool_bytes = (double)(od->pool.headers.bytes + od->pool.tasks.bytes + od->pool.empty_cache.bytes +
                          od->pool.priority_cache.bytes + od->pool.control.bytes + od->slabs.bytes);
-  return *node_bytes + *reference_bytes + *pool_bytes + od->prim_boxes.bytes + od->bin_code.bytes +
+  return *node_bytes + *reference_bytes + *pool_bytes + od->prim_boxes.bytes + od->side.bytes +
          od->scratch.bytes + od->chunk_left.bytes;
 }

@@ -9,7 +9,7 @@
 typedef struct lt__ondemand {
   lt_context *ctx;
   lt__pool pool;
-  lt__buffer verts, prim_boxes, bin_code, index, scratch, chunk_left, nodes, slabs, slab_used, counters;
+  lt__buffer verts, prim_boxes, side, index, scratch, chunk_left, nodes, slabs, slab_used, counters;
   int count;          /* triangles */
   int node_capacity;
   int slab_count;
