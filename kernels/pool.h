@@ -103,6 +103,9 @@ typedef struct lt_pool {
   lt_i32 mode;                      /* LT_POOL_FULL, _REQUESTED or _SPECULATIVE */
 } lt_pool;
 
+/* Entries of the empty-task cache an insert looks at before it scans the headers. */
+#define LT_POOL_EMPTY_TRIES 32
+
 /* Counters are per work-group but any work-item may count, hence the atomic. */
 LT_DEVICE void lt_pool_count(const lt_pool *pool, int stat, lt_u32 n) {
   lt_atomic_add_u32(&pool->stats[lt_group_id() * LT_POOL_STAT_COUNT + stat], n);
@@ -115,12 +118,19 @@ LT_DEVICE void lt_pool_fail(const lt_pool *pool, lt_i32 error) {
 /* Claims an empty slot (header EMPTY -> 0, locked): the empty-task cache first, then a scan.
  * Returns the slot, or -1 when the pool is full. */
 LT_DEVICE lt_i32 lt_pool_claim(const lt_pool *pool) {
-  /* Recently emptied slots, newest first; a stale entry just fails its compare-and-swap. */
+  /* The newest few recently emptied slots. An entry is cleared once its slot is claimed; one
+   * whose slot was taken another way is stale and only read (no compare-and-swap on a header
+   * that is not empty): when most tasks wait for requests that never come, slots rarely empty
+   * and a long walk over stale entries would cost every insert. */
   lt_i32 put = lt_atomic_load_i32(&pool->control->empty_put);
   lt_i32 tries = put < pool->empty_size ? put : pool->empty_size;
+  if (tries > LT_POOL_EMPTY_TRIES) tries = LT_POOL_EMPTY_TRIES;
   for (lt_i32 k = 1; k <= tries; k++) {
-    lt_i32 slot = lt_atomic_load_i32(&pool->empty_cache[(lt_u32)(put - k) % (lt_u32)pool->empty_size]);
-    if (slot >= 0 && lt_atomic_cas_i32(&pool->headers[slot], LT_POOL_EMPTY, 0) == LT_POOL_EMPTY) {
+    LT_GLOBAL lt_i32 *entry = &pool->empty_cache[(lt_u32)(put - k) % (lt_u32)pool->empty_size];
+    lt_i32 slot = lt_atomic_load_i32(entry);
+    if (slot >= 0 && lt_atomic_load_i32(&pool->headers[slot]) == LT_POOL_EMPTY &&
+        lt_atomic_cas_i32(&pool->headers[slot], LT_POOL_EMPTY, 0) == LT_POOL_EMPTY) {
+      lt_atomic_cas_i32(entry, slot, -1);
       lt_pool_count(pool, LT_POOL_STAT_EMPTY_HITS, 1);
       return slot;
     }
