@@ -273,9 +273,9 @@ LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, in
    * retire its own task, because its finisher still counts the chunk done afterwards. */
   if (lid != 0 || phase == LT_BVH_SMALL || phase == LT_BVH_INIT) return;
   if (phase == LT_BVH_COUNT) {
-    /* Each primitive's side, the left-hand count, and both sides' boxes and centroid boxes
-     * for the children, exact over every primitive (binning may have seen a sample). */
-    lt_i32 split = task->work[W_SPLIT], left = 0;
+    /* Each primitive's side, the left-hand count, and both sides' centroid boxes for the
+     * children; their boxes too when binning saw only a sample (otherwise the bins had them). */
+    lt_i32 split = task->work[W_SPLIT], left = 0, sampled = lt_bin_step(end - begin) > 1;
     float scale[3];
     lt_bin_scale(&cbounds, b->bins, scale);
     lt_box box[2] = {lt_box_empty(), lt_box_empty()}, cbox[2] = {lt_box_empty(), lt_box_empty()};
@@ -283,7 +283,7 @@ LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, in
       lt_box pb;
       float c[3];
       int side = lt_bvh_side_of(b, b->index[i], split, &cbounds, scale, &pb, c);
-      lt_box_grow(&box[side], &pb);
+      if (sampled) lt_box_grow(&box[side], &pb);
       lt_box_grow_point(&cbox[side], c);
       b->side[i] = side;
       left += 1 - side;
@@ -377,9 +377,12 @@ LT_DEVICE void lt_bvh_end_phase(const lt_bvh_build *b, lt_i32 slot) {
       lt_pool_next_phase(&b->pool, slot, LT_BVH_BOXES, chunks);
       return;
     }
-    /* Both sides' boxes and centroid boxes start empty; COUNT grows them. */
+    /* Both sides' boxes: from the bins when every primitive was binned, else grown by COUNT
+     * (which grows the centroid boxes in any case). */
     lt_box empty = lt_box_empty();
-    for (int i = 0; i < 4; i++) lt_slab_put_box(slab, i, &empty);
+    int sampled = lt_bin_step(n) > 1;
+    lt_slab_put_box(slab, 0, sampled ? &empty : &s.left), lt_slab_put_box(slab, 1, &empty);
+    lt_slab_put_box(slab, 2, sampled ? &empty : &s.right), lt_slab_put_box(slab, 3, &empty);
     task->work[W_SPLIT] = s.axis * 64 + s.bin;
     lt_pool_next_phase(&b->pool, slot, LT_BVH_COUNT, chunks);
   } else if (phase == LT_BVH_COUNT) {

@@ -51,24 +51,8 @@ static lt_status launch(lt_lazy_sort *s, lt__buffer *queries, lt__buffer *answer
                                           : launch_opencl(s, queries, answers, count);
 }
 
-/* PoCL compiles a kernel's work-group function at its first launch: one launch that quits at
- * once (the control block says "error") moves that cost into the compile time. */
-static lt_status warm_up(lt_lazy_sort *s) {
-  lt_pool_control saved, stop;
-  lt__buffer none;
-  lt_status status = lt__buffer_read(s->ctx, &s->pool.control, 0, sizeof saved, &saved);
-  if (status) return status;
-  stop = saved;
-  stop.error = LT_POOL_ERROR_STALL;
-  double start = lt_now_ms();
-  status = lt__buffer_create(s->ctx, &none, 16, NULL, 0);
-  if (!status) status = lt__buffer_write(s->ctx, &s->pool.control, 0, sizeof stop, &stop);
-  if (!status) status = launch(s, &none, &none, 0);
-  lt__buffer_release(&none);
-  if (!status) status = lt__buffer_write(s->ctx, &s->pool.control, 0, sizeof saved, &saved);
-  s->ctx->compile_ms += lt_now_ms() - start;
-  return status;
-}
+/* The warm-up launch (lt__pool_warm_up): no queries. */
+static lt_status warm_up_launch(void *user, lt__buffer *scratch) { return launch(user, scratch, scratch, 0); }
 
 lt_status lt_lazy_sort_create(lt_context *ctx, const uint32_t *keys, size_t count, lt_build_mode mode,
                               const lt_pool_config *config, lt_lazy_sort **out) {
@@ -99,7 +83,7 @@ lt_status lt_lazy_sort_create(lt_context *ctx, const uint32_t *keys, size_t coun
     status = lt__pool_insert_root(&s->pool, 0, 0, 0, (int)count, 1);
     if (!status) status = lt__buffer_write(ctx, &s->state, 0, 4, &unbuilt);
   }
-  if (!status && ctx->kind == LT_DEVICE_OPENCL) status = warm_up(s);
+  if (!status && ctx->kind == LT_DEVICE_OPENCL) status = lt__pool_warm_up(&s->pool, warm_up_launch, s);
   if (status) {
     lt_lazy_sort_destroy(s);
     return status;

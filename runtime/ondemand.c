@@ -26,7 +26,7 @@ static void triangle_boxes(const lt_scene *scene, float *boxes, lt_box *bounds, 
   }
 }
 
-static lt_status warm_up(lt__ondemand *od);
+static lt_status warm_up_launch(void *user, lt__buffer *scratch);
 
 lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__sah_config *sah, int mode,
                               int pool_capacity, int node_capacity, lt__ondemand *od) {
@@ -95,7 +95,7 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
   }
   if (od->count == 1) od->leaves = 1;
   if (!status && ctx->kind == LT_DEVICE_OPENCL && !ctx->ondemand_warm) {
-    status = warm_up(od);
+    status = lt__pool_warm_up(&od->pool, warm_up_launch, od);
     ctx->ondemand_warm = 1;
   }
   if (status) lt__ondemand_release(od);
@@ -147,24 +147,10 @@ static lt_status launch_native(lt__ondemand *od, lt__buffer *rays, lt__buffer *h
   return lt__native_run(od->ctx->work_groups, lt__native_bvh_ondemand_kernel, &a);
 }
 
-/* PoCL compiles a kernel's work-group function at its first launch: one launch that quits at
- * once (the control block says "error") moves that cost into the compile time. */
-static lt_status warm_up(lt__ondemand *od) {
-  lt_pool_control saved, stop;
-  lt__buffer none;
-  lt_status status = lt__buffer_read(od->ctx, &od->pool.control, 0, sizeof saved, &saved);
-  if (status) return status;
-  stop = saved;
-  stop.error = LT_POOL_ERROR_STALL;
-  double start = lt_now_ms();
-  status = lt__buffer_create(od->ctx, &none, 16, NULL, 0);
+/* The warm-up launch (lt__pool_warm_up): no rays. */
+static lt_status warm_up_launch(void *user, lt__buffer *scratch) {
   cl_int4 trace = {{0, 0, 1, 0}};
-  if (!status) status = lt__buffer_write(od->ctx, &od->pool.control, 0, sizeof stop, &stop);
-  if (!status) status = launch_opencl(od, &none, &none, trace);
-  lt__buffer_release(&none);
-  if (!status) status = lt__buffer_write(od->ctx, &od->pool.control, 0, sizeof saved, &saved);
-  od->ctx->compile_ms += lt_now_ms() - start;
-  return status;
+  return launch_opencl(user, scratch, scratch, trace);
 }
 
 lt_status lt__ondemand_launch(lt__ondemand *od, const lt_ray *rays, int count, int any_hit, lt_hit *hits,

@@ -156,6 +156,24 @@ lt_status lt__pool_unlock_waiting(lt__pool *pool, int *count) {
   return status;
 }
 
+lt_status lt__pool_warm_up(lt__pool *pool, lt__pool_launch_fn launch, void *user) {
+  lt_pool_control saved, stop;
+  lt__buffer scratch;
+  lt_status status = lt__buffer_read(pool->ctx, &pool->control, 0, sizeof saved, &saved);
+  if (status) return status;
+  stop = saved;
+  stop.error = LT_POOL_ERROR_STALL;
+  double start = lt_now_ms();
+  status = lt__buffer_create(pool->ctx, &scratch, 16, NULL, 0);
+  if (status) return status;
+  status = lt__buffer_write(pool->ctx, &pool->control, 0, sizeof stop, &stop);
+  if (!status) status = launch(user, &scratch);
+  lt__buffer_release(&scratch);
+  if (!status) status = lt__buffer_write(pool->ctx, &pool->control, 0, sizeof saved, &saved);
+  pool->ctx->compile_ms += lt_now_ms() - start;
+  return status;
+}
+
 lt_pool lt__pool_native_view(lt__pool *pool) {
   lt_pool view = {pool->headers.host, pool->tasks.host, pool->empty_cache.host, pool->priority_cache.host,
                   pool->control.host, pool->stats.host, pool->order.host, pool->config.capacity,

@@ -25,6 +25,12 @@ lt_status lt__pool_begin_launch(lt__pool *pool);
 lt_status lt__pool_end_launch(lt__pool *pool, lt_stats *stats);
 /* Level baseline: unlocks every waiting task from the host; returns how many via *count. */
 lt_status lt__pool_unlock_waiting(lt__pool *pool, int *count);
+/* PoCL compiles a kernel's work-group function at its first launch: warm-up runs `launch`
+ * once with the control block saying "error" (every work-group quits at once) and a small
+ * scratch buffer for its ray or query arguments, then restores the control block. The time
+ * counts as compile time. */
+typedef lt_status (*lt__pool_launch_fn)(void *user, lt__buffer *scratch);
+lt_status lt__pool_warm_up(lt__pool *pool, lt__pool_launch_fn launch, void *user);
 /* The device view for the native backend (host pointers). */
 lt_pool lt__pool_native_view(lt__pool *pool);
 /* Sets the pool's kernel arguments 0..8 (the layout of lt_lazy_sort in kernels/lazy_sort.cl). */
