@@ -25,7 +25,7 @@ typedef struct lt_od_trace_args {
 } lt_od_trace_args;
 
 typedef struct lt_od_shared {
-  lt_i32 slot, chunk, batch, quit;
+  lt_pool_round round;
   lt_i32 pending[LT_MAX_LOCAL_SIZE];
 } lt_od_shared;
 
@@ -44,8 +44,8 @@ LT_DEVICE void lt_od_run(const lt_od_trace_args *a, LT_LOCAL lt_od_shared *sh) {
   q.hit.t = q.hit.u = q.hit.v = 0.0f, q.hit.prim = -1, q.sp = 0, q.cur = -1, q.wait = -1;
   lt_trace_counters c = {0, 0};
   lt_i32 item = -1, next_item = 0, end_item = 0; /* this work-item's rays: item, then next..end */
-  int gave_up = 0, running = 1;
-  lt_i32 idle = 0, last_progress = -1;
+  int running = 1;
+  lt_pool_worker worker = {0, 0, -1};
   while (running) {
     /* Trace (or restart) this work-item's rays until one waits or they run out. */
     while (item >= 0 && lt_od_trace(b, &q, a->any_hit, &c)) {
@@ -60,37 +60,18 @@ LT_DEVICE void lt_od_run(const lt_od_trace_args *a, LT_LOCAL lt_od_shared *sh) {
     sh->pending[lid] = item >= 0;
     lt_barrier();
 
-    /* Work-item 0 decides for the group: new rays, building, or quitting. */
+    /* Work-item 0 decides for the group: new rays, building, or quitting. Only speculative and
+     * full builds look for work that no ray of the group waits for. */
     if (lid == 0) {
       int waiting = 0;
       for (int l = 0; l < lsize; l++) waiting |= sh->pending[l];
-      sh->batch = -1, sh->quit = 0, sh->slot = -1, sh->chunk = -1;
-      if (!waiting && !gave_up) {
-        lt_i32 first = lt_atomic_add_i32(&pool->control->work_next, lsize * LT_OD_RAYS_PER_ITEM);
-        if (first < a->ray_count) {
-          sh->batch = first;
-          lt_atomic_add_i32(&pool->control->progress, 1);
-        } else {
-          gave_up = 1;
-          lt_atomic_add_i32(&pool->control->termination, -1);
-        }
-      }
-      if (sh->batch < 0) {
-        if (gave_up && lt_pool_may_quit(pool)) {
-          sh->quit = 1;
-        } else if (waiting || a->speculate || pool->mode == LT_POOL_FULL) {
-          lt_i32 chunk = -1;
-          sh->slot = lt_pool_take(pool, &chunk);
-          sh->chunk = chunk;
-        }
-      }
-
-      if (sh->batch < 0 && sh->slot < 0 && !sh->quit) lt_pool_idle(pool, &idle, &last_progress, a->max_idle_polls);
-      if (lt_atomic_load_i32(&pool->control->error) != LT_POOL_OK) sh->quit = 1;
+      int build = a->speculate || pool->mode == LT_POOL_FULL;
+      sh->round = lt_pool_decide(pool, &worker, waiting, build, lsize * LT_OD_RAYS_PER_ITEM, a->ray_count,
+                                 a->max_idle_polls);
     }
     lt_barrier();
-    running = !sh->quit;
-    lt_i32 batch = sh->batch, slot = sh->slot, chunk = sh->chunk;
+    running = !sh->round.quit;
+    lt_i32 batch = sh->round.batch, slot = sh->round.slot, chunk = sh->round.chunk;
 
     /* New rays: every lsize-th of the batch for each work-item, traced at the top of the loop. */
     if (running && batch >= 0) {

@@ -51,7 +51,7 @@ typedef struct lt_sort {
 
 /* What a work-group shares in local memory. */
 typedef struct lt_sort_shared {
-  lt_i32 slot, chunk, batch, quit, suspended;
+  lt_pool_round round;
   lt_i32 pending[LT_MAX_LOCAL_SIZE];
 } lt_sort_shared;
 
@@ -194,8 +194,8 @@ LT_DEVICE void lt_sort_run(const lt_sort *s, LT_LOCAL lt_sort_shared *sh) {
   int lid = lt_local_id(), lsize = lt_local_size();
   const lt_pool *pool = &s->pool;
   lt_i32 item = -1, node = 0;
-  int suspended = 0, gave_up = 0, running = 1;
-  lt_i32 idle = 0, last_progress = -1;
+  int suspended = 0, running = 1;
+  lt_pool_worker worker = {0, 0, -1};
   while (running) {
     /* Restart or continue this work-item's query. */
     if (item >= 0) {
@@ -213,37 +213,13 @@ LT_DEVICE void lt_sort_run(const lt_sort *s, LT_LOCAL lt_sort_shared *sh) {
     if (lid == 0) {
       int waiting = 0;
       for (int l = 0; l < lsize; l++) waiting |= sh->pending[l];
-      sh->batch = -1;
-      sh->quit = 0;
-      sh->slot = -1;
-      sh->chunk = -1;
-      if (!waiting && !gave_up) {
-        lt_i32 first = lt_atomic_add_i32(&pool->control->work_next, lsize);
-        if (first < s->query_count) {
-          sh->batch = first;
-          lt_atomic_add_i32(&pool->control->progress, 1);
-        } else {
-          gave_up = 1;
-          lt_atomic_add_i32(&pool->control->termination, -1);
-        }
-      }
-      if (sh->batch < 0) {
-        if (gave_up && lt_pool_may_quit(pool)) {
-          sh->quit = 1;
-        } else {
-          lt_i32 chunk = -1;
-          sh->slot = lt_pool_take(pool, &chunk);
-          sh->chunk = chunk;
-          if (sh->slot >= 0) lt_pool_log_start(pool, sh->slot, chunk);
-        }
-      }
-
-      if (sh->batch < 0 && sh->slot < 0 && !sh->quit) lt_pool_idle(pool, &idle, &last_progress, s->max_idle_polls);
-      if (lt_atomic_load_i32(&pool->control->error) != LT_POOL_OK) sh->quit = 1;
+      lt_pool_round r = lt_pool_decide(pool, &worker, waiting, 1, lsize, s->query_count, s->max_idle_polls);
+      if (r.slot >= 0) lt_pool_log_start(pool, r.slot, r.chunk);
+      sh->round = r;
     }
     lt_barrier();
-    running = !sh->quit;
-    lt_i32 batch = sh->batch, slot = sh->slot, chunk = sh->chunk;
+    running = !sh->round.quit;
+    lt_i32 batch = sh->round.batch, slot = sh->round.slot, chunk = sh->round.chunk;
 
     /* A new batch: every work-item takes one query and walks it at the top of the loop. */
     if (running && batch >= 0) {

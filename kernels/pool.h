@@ -327,4 +327,44 @@ LT_DEVICE int lt_pool_may_quit(const lt_pool *pool) {
   return pool->mode != LT_POOL_FULL || outstanding == 0;
 }
 
+/* One round of a work-group's persistent loop, decided by its work-item 0 and shared with the
+ * others: a new batch of its own work (items batch...), a chunk of a task (slot, chunk), or
+ * quitting; all -1 and 0 when the group found nothing this round. */
+typedef struct lt_pool_round {
+  lt_i32 batch, slot, chunk, quit;
+} lt_pool_round;
+
+/* What work-item 0 remembers between rounds. */
+typedef struct lt_pool_worker {
+  int gave_up;              /* out of own work: the termination counter has been decremented */
+  lt_i32 idle, last_progress; /* the stall cap's count (lt_pool_idle) */
+} lt_pool_worker;
+
+/* The round's decision: when none of the group's items waits, a new batch of batch_size out of
+ * item_count (or, out of items, giving up); otherwise, or then, a chunk of work when an item
+ * waits for one or `build` says to look anyway; quitting once lt_pool_may_quit allows it or an
+ * error stopped the pool. */
+LT_DEVICE lt_pool_round lt_pool_decide(const lt_pool *pool, lt_pool_worker *w, int waiting, int build,
+                                       lt_i32 batch_size, lt_i32 item_count, lt_i32 max_idle_polls) {
+  lt_pool_round r;
+  r.batch = -1, r.slot = -1, r.chunk = -1, r.quit = 0;
+  if (!waiting && !w->gave_up) {
+    lt_i32 first = lt_atomic_add_i32(&pool->control->work_next, batch_size);
+    if (first < item_count) {
+      r.batch = first;
+      lt_atomic_add_i32(&pool->control->progress, 1);
+    } else {
+      w->gave_up = 1;
+      lt_atomic_add_i32(&pool->control->termination, -1);
+    }
+  }
+  if (r.batch < 0) {
+    if (w->gave_up && lt_pool_may_quit(pool)) r.quit = 1;
+    else if (waiting || build) r.slot = lt_pool_take(pool, &r.chunk);
+  }
+  if (r.batch < 0 && r.slot < 0 && !r.quit) lt_pool_idle(pool, &w->idle, &w->last_progress, max_idle_polls);
+  if (lt_atomic_load_i32(&pool->control->error) != LT_POOL_OK) r.quit = 1;
+  return r;
+}
+
 #endif
