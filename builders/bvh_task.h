@@ -198,46 +198,126 @@ LT_DEVICE void lt_slab_grow_box(LT_GLOBAL lt_i32 *slab, int i, const lt_box *box
   }
 }
 
-/* A whole node in one chunk (work-item 0): bin, decide, partition in order, children. */
-LT_DEVICE void lt_bvh_small(const lt_bvh_build *b, lt_i32 slot) {
-  LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
-  lt_i32 begin = task->begin, end = task->end, n = end - begin;
-  lt_box bounds = lt_load_box(task->work + W_BOUNDS), cbounds = lt_load_box(task->work + W_CBOUNDS);
+/* Splits a node in one go on work-item 0 (a node of at most LT_BVH_CHUNK primitives, or a
+ * larger one that found no free bin slab): bins it (a sample of a large one), prices the
+ * splits, notes each primitive's side while bounding both sides, and partitions in order
+ * through the scratch array. Returns 0 when the node is a leaf; else the split, with exact
+ * boxes and counts, and its middle in *mid. */
+LT_DEVICE int lt_bvh_split_small(const lt_bvh_build *b, lt_i32 begin, lt_i32 end, lt_i32 depth, const lt_box *bounds,
+                                 const lt_box *cbounds, lt_split *s, lt_i32 *mid) {
+  lt_i32 n = end - begin;
   lt_i32 bins[LT_BINS_SIZE];
   lt_bins_clear(bins);
-  lt_bvh_bin_range(b, begin, end, 1, &cbounds, bins); /* n <= LT_BVH_CHUNK: never sampled */
-  lt_split s = lt_sah_best_split(bins, b->bins, &bounds, b->traversal_cost, b->intersection_cost);
-  lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)n);
-  if (lt_sah_make_leaf(n, task->depth, &s, b->max_leaf, b->intersection_cost, LT_BVH_MAX_DEPTH)) {
-    lt_bvh_finish_leaf(b, slot);
-    return;
-  }
+  lt_i32 step = lt_bin_step(n);
+  lt_bvh_bin_range(b, begin, end, step, cbounds, bins);
+  *s = lt_sah_best_split(bins, b->bins, bounds, b->traversal_cost, b->intersection_cost);
+  lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)lt_bin_sample_count(n));
+  if (lt_sah_make_leaf(n, depth, s, b->max_leaf, b->intersection_cost, LT_BVH_MAX_DEPTH)) return 0;
 
   /* Object median when SAH found no split: the halves keep their order. */
-  if (s.axis < 0) {
-    lt_i32 mid = begin + n / 2;
-    lt_bvh_bound_range(b, begin, mid, &s.left, &s.cleft);
-    lt_bvh_bound_range(b, mid, end, &s.right, &s.cright);
-    lt_bvh_finish_split(b, slot, mid, &s.left, &s.right, &s.cleft, &s.cright);
-    return;
+  if (s->axis < 0) {
+    *mid = begin + n / 2;
+    lt_bvh_bound_range(b, begin, *mid, &s->left, &s->cleft);
+    lt_bvh_bound_range(b, *mid, end, &s->right, &s->cright);
+    return 1;
   }
 
-  /* Stable partition through the scratch array, bounding each side's centroids. */
-  lt_i32 split = s.axis * 64 + s.bin, left = begin, right = begin + s.left_count;
+  /* Sides and exact bounds (the bins saw only a sample of a large node), then a stable
+   * partition through the scratch array. */
+  lt_i32 split = s->axis * 64 + s->bin, left_count = 0;
   float scale[3];
-  lt_bin_scale(&cbounds, b->bins, scale);
+  lt_bin_scale(cbounds, b->bins, scale);
+  s->left = s->right = s->cleft = s->cright = lt_box_empty();
   for (lt_i32 i = begin; i < end; i++) {
-    lt_i32 p = b->index[i];
     lt_box box;
     float c[3];
-    int side = lt_bvh_side_of(b, p, split, &cbounds, scale, &box, c);
-    lt_box_grow_point(side ? &s.cright : &s.cleft, c);
-    if (side) b->scratch[right++] = p;
-    else b->scratch[left++] = p;
+    int side = lt_bvh_side_of(b, b->index[i], split, cbounds, scale, &box, c);
+    lt_box_grow(side ? &s->right : &s->left, &box);
+    lt_box_grow_point(side ? &s->cright : &s->cleft, c);
+    b->side[i] = side;
+    left_count += 1 - side;
+  }
+  s->left_count = left_count;
+  for (lt_i32 i = begin, left = begin, right = begin + left_count; i < end; i++) {
+    if (b->side[i]) b->scratch[right++] = b->index[i];
+    else b->scratch[left++] = b->index[i];
   }
   for (lt_i32 i = begin; i < end; i++) b->index[i] = b->scratch[i];
   lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)n);
-  lt_bvh_finish_split(b, slot, begin + s.left_count, &s.left, &s.right, &s.cleft, &s.cright);
+  *mid = begin + s->left_count;
+  return 1;
+}
+
+/* A node still to be made inside a subtree task: its link's address, range, depth, boxes. */
+typedef struct lt_bvh_pending {
+  lt_i32 address, begin, end, depth;
+  lt_box bounds, cbounds;
+} lt_bvh_pending;
+
+/* A full build makes the whole subtree of a small node in its task, depth first from a
+ * private stack, with no pool traffic below LT_BVH_CHUNK primitives. Each node links into its
+ * parent as it is made (a full build traces nothing meanwhile); the subtree's own link, into
+ * the node above the task, comes last. The nodes are those lt_bvh_split_small makes one task
+ * at a time, so the tree is the same in every mode. */
+LT_DEVICE void lt_bvh_subtree(const lt_bvh_build *b, lt_i32 slot) {
+  LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
+  lt_bvh_pending stack[LT_BVH_MAX_DEPTH + 1], cur;
+  cur.address = lt_atomic_load_i32(&task->node), cur.begin = task->begin, cur.end = task->end;
+  cur.depth = task->depth;
+  cur.bounds = lt_load_box(task->work + W_BOUNDS), cur.cbounds = lt_load_box(task->work + W_CBOUNDS);
+  lt_i32 top = 0, root_link = -1, root_count = 0, root_address = cur.address;
+  for (;;) {
+    lt_split s;
+    lt_i32 mid, link, count;
+    if (lt_bvh_split_small(b, cur.begin, cur.end, cur.depth, &cur.bounds, &cur.cbounds, &s, &mid)) {
+      link = lt_atomic_add_i32(&b->pool.control->nodes_next, 1), count = 0;
+      if (link >= b->node_capacity) {
+        lt_pool_fail(&b->pool, LT_POOL_ERROR_NODES);
+        return;
+      }
+      LT_GLOBAL lt_bvh_node *node = &b->nodes[link];
+      lt_bvh_set_child(node, 0, &s.left, -1, 0);
+      lt_bvh_set_child(node, 1, &s.right, -1, 0);
+      lt_bvh_pending right;
+      right.address = link * 2 + 1, right.begin = mid, right.end = cur.end, right.depth = cur.depth + 1;
+      right.bounds = s.right, right.cbounds = s.cright;
+      stack[top++] = right;
+    } else {
+      link = cur.begin, count = cur.end - cur.begin;
+      lt_bvh_count(b, LT_BVH_STAT_LEAVES, 1);
+    }
+    if (cur.address == root_address) root_link = link, root_count = count;
+    else lt_bvh_link(b, cur.address, link, count);
+
+    /* Down the left child of a new node, else the last right child left behind. */
+    if (count == 0) {
+      cur.address = link * 2, cur.end = mid, cur.depth++;
+      cur.bounds = s.left, cur.cbounds = s.cleft;
+    } else if (top > 0) {
+      cur = stack[--top];
+    } else {
+      break;
+    }
+  }
+  lt_bvh_link(b, root_address, root_link, root_count);
+  lt_pool_retire(&b->pool, slot);
+}
+
+/* A whole node in one chunk (work-item 0): split it and spawn its children's tasks, or in a
+ * full build make the whole subtree of a small one. */
+LT_DEVICE void lt_bvh_small(const lt_bvh_build *b, lt_i32 slot) {
+  LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
+  if (b->pool.mode == LT_POOL_FULL && task->end - task->begin <= LT_BVH_CHUNK) {
+    lt_bvh_subtree(b, slot);
+    return;
+  }
+  lt_box bounds = lt_load_box(task->work + W_BOUNDS), cbounds = lt_load_box(task->work + W_CBOUNDS);
+  lt_split s;
+  lt_i32 mid;
+  if (lt_bvh_split_small(b, task->begin, task->end, task->depth, &bounds, &cbounds, &s, &mid))
+    lt_bvh_finish_split(b, slot, mid, &s.left, &s.right, &s.cleft, &s.cright);
+  else
+    lt_bvh_finish_leaf(b, slot);
 }
 
 /* Takes a free bin slab, or returns -1 when all are in use. */

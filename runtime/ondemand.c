@@ -10,7 +10,9 @@
 #include "runtime/stats_internal.h"
 #include "scenes/scene_internal.h"
 
-#define SLABS 64
+/* Bin slabs: how many large nodes may bin at once; a node that finds none is split in one go
+ * by one work-item. Tests set it to 0 to take that path always. */
+int lt__ondemand_slab_count = 64;
 
 /* Each triangle's box (written where `boxes` points) and the root's bounds. */
 static void triangle_boxes(const lt_scene *scene, float *boxes, lt_box *bounds, lt_box *cbounds) {
@@ -34,7 +36,7 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
   od->ctx = ctx;
   od->count = (int)scene->count;
   od->node_capacity = node_capacity;
-  od->slab_count = SLABS;
+  od->slab_count = lt__ondemand_slab_count > 0 ? lt__ondemand_slab_count : 0;
   od->sah = *sah;
   if (sah->bins > LT_MAX_BINS) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "at most %d SAH bins", LT_MAX_BINS);
   /* Device buffers: the scene's triangles as they are (no copy on native), their boxes,
@@ -62,8 +64,8 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
   if (!status) status = lt__buffer_create(ctx, &od->chunk_left, n * 4, NULL, LT_BUFFER_UNINIT);
   if (!status)
     status = lt__buffer_create(ctx, &od->nodes, (size_t)node_capacity * sizeof(lt_bvh_node), NULL, LT_BUFFER_UNINIT);
-  if (!status) status = lt__buffer_create(ctx, &od->slabs, (size_t)SLABS * LT_BVH_SLAB_SIZE * 4, NULL, 0);
-  if (!status) status = lt__buffer_create(ctx, &od->slab_used, SLABS * 4, NULL, 0);
+  if (!status) status = lt__buffer_create(ctx, &od->slabs, (size_t)(od->slab_count + 1) * LT_BVH_SLAB_SIZE * 4, NULL, 0);
+  if (!status) status = lt__buffer_create(ctx, &od->slab_used, (size_t)(od->slab_count + 1) * 4, NULL, 0);
   if (!status)
     status = lt__buffer_create(ctx, &od->counters, (size_t)ctx->work_groups * LT_BVH_STAT_COUNT * 4, NULL, 0);
   if (status) {

@@ -18,6 +18,9 @@ typedef struct lt__ondemand {
   double sort_ops;
 } lt__ondemand;
 
+/* Bin slabs of trees created from now on (default 64; see ondemand.c). */
+extern int lt__ondemand_slab_count;
+
 /* An empty tree over the scene: node 0 is a super-root whose left child is the root task. */
 lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__sah_config *sah, int mode,
                               int pool_capacity, int node_capacity, lt__ondemand *od);
