@@ -223,8 +223,8 @@ typedef struct lt_pool_config {
   int capacity;            /* task slots; default 65536. A full pool is LT_ERROR_CAPACITY. */
   int empty_cache_size;    /* ring of recently emptied slots; default 1024 */
   int priority_cache_size; /* ring of slots unlocked by requests; default 1024 */
-  int max_idle_polls;      /* searches with no progress anywhere before LT_ERROR_SCHEDULER;
-                              default 4,000,000 */
+  int max_idle_polls;      /* searches, while every work-group searches and nothing moves,
+                              before LT_ERROR_SCHEDULER; default 200,000,000 (seconds) */
   int order_log_size;      /* entries of the log of task starts (for tests); default 0 */
 } lt_pool_config;
 

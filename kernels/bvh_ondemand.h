@@ -45,7 +45,7 @@ LT_DEVICE void lt_od_run(const lt_od_trace_args *a, LT_LOCAL lt_od_shared *sh) {
   lt_trace_counters c = {0, 0};
   lt_i32 item = -1, next_item = 0, end_item = 0; /* this work-item's rays: item, then next..end */
   int running = 1;
-  lt_pool_worker worker = {0, 0, -1};
+  lt_pool_worker worker = lt_pool_worker_new();
   while (running) {
     /* Trace (or restart) this work-item's rays until one waits or they run out. */
     while (item >= 0 && lt_od_trace(b, &q, a->any_hit, &c)) {

@@ -195,7 +195,7 @@ LT_DEVICE void lt_sort_run(const lt_sort *s, LT_LOCAL lt_sort_shared *sh) {
   const lt_pool *pool = &s->pool;
   lt_i32 item = -1, node = 0;
   int suspended = 0, running = 1;
-  lt_pool_worker worker = {0, 0, -1};
+  lt_pool_worker worker = lt_pool_worker_new();
   while (running) {
     /* Restart or continue this work-item's query. */
     if (item >= 0) {

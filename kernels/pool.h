@@ -67,7 +67,9 @@ typedef struct lt_pool_control {
   lt_i32 order_next;  /* next entry of the order log */
   lt_i32 waiting;     /* tasks published waiting in LT_POOL_LEVELS mode */
   lt_i32 scan_hint;   /* where a scan last found work */
-  lt_i32 pad[4];
+  lt_i32 groups;      /* work-groups of this launch */
+  lt_i32 idle_groups; /* work-groups in an idle streak, or gone (lt_pool_decide) */
+  lt_i32 pad[2];
 } lt_pool_control;
 
 /* Per-work-group counters, written by work-item 0 of that group only. */
@@ -305,17 +307,6 @@ LT_DEVICE void lt_pool_retire(const lt_pool *pool, lt_i32 slot) {
   lt_atomic_add_i32(&pool->control->outstanding, -1);
 }
 
-/* A search that found nothing: counts towards the stall cap, but only while nothing moved
- * anywhere (the global progress counter is unchanged since this work-group's last search),
- * so waiting for another work-group's long batch is not mistaken for a hang. */
-LT_DEVICE void lt_pool_idle(const lt_pool *pool, lt_i32 *idle, lt_i32 *last_progress, lt_i32 max_idle_polls) {
-  lt_pool_count(pool, LT_POOL_STAT_IDLE, 1);
-  lt_i32 progress = lt_atomic_load_i32(&pool->control->progress);
-  *idle = progress == *last_progress ? *idle + 1 : 0;
-  *last_progress = progress;
-  if (*idle > max_idle_polls) lt_pool_fail(pool, LT_POOL_ERROR_STALL);
-}
-
 /* Whether a work-group that has given up its own work may quit: every work-group is out of
  * own work, and in a full build every task is done too (in the level baseline every task of
  * this level); or an error stopped everything. */
@@ -336,9 +327,51 @@ typedef struct lt_pool_round {
 
 /* What work-item 0 remembers between rounds. */
 typedef struct lt_pool_worker {
-  int gave_up;              /* out of own work: the termination counter has been decremented */
-  lt_i32 idle, last_progress; /* the stall cap's count (lt_pool_idle) */
+  int gave_up;                /* out of own work: the termination counter has been decremented */
+  int idle;                   /* in an idle streak: counted in control->idle_groups */
+  lt_i32 polls, last_progress; /* the stall cap's count of polls without progress */
 } lt_pool_worker;
+
+LT_DEVICE lt_pool_worker lt_pool_worker_new(void) {
+  lt_pool_worker w;
+  w.gave_up = 0, w.idle = 0, w.polls = 0, w.last_progress = -1;
+  return w;
+}
+
+/* The stall cap. A round that found nothing is an idle poll; it counts towards the cap only
+ * while every work-group of the launch is idle (or gone) and the global progress counter has
+ * not moved. A work-group that is tracing a long batch, or whose thread the operating system
+ * has set aside, is not idle, so the others wait for it however long that takes; when all
+ * poll and nothing moves, nothing can (a true hang), and the cap turns it into an error. */
+LT_DEVICE void lt_pool_idle(const lt_pool *pool, lt_pool_worker *w, lt_i32 max_idle_polls) {
+  lt_pool_count(pool, LT_POOL_STAT_IDLE, 1);
+  if (!w->idle) {
+    w->idle = 1;
+    lt_atomic_add_i32(&pool->control->idle_groups, 1);
+  }
+  lt_i32 progress = lt_atomic_load_i32(&pool->control->progress);
+  int all_idle = lt_atomic_load_i32(&pool->control->idle_groups) >= lt_atomic_load_i32(&pool->control->groups);
+  w->polls = progress == w->last_progress && all_idle ? w->polls + 1 : 0;
+  w->last_progress = progress;
+  if (w->polls > max_idle_polls) lt_pool_fail(pool, LT_POOL_ERROR_STALL);
+}
+
+/* A round that found work ends the idle streak. */
+LT_DEVICE void lt_pool_busy(const lt_pool *pool, lt_pool_worker *w) {
+  if (w->idle) {
+    w->idle = 0;
+    lt_atomic_add_i32(&pool->control->idle_groups, -1);
+  }
+  w->polls = 0;
+}
+
+/* A work-group that quits stays counted as idle: the others' stall cap must not wait for it. */
+LT_DEVICE void lt_pool_leave(const lt_pool *pool, lt_pool_worker *w) {
+  if (!w->idle) {
+    w->idle = 1;
+    lt_atomic_add_i32(&pool->control->idle_groups, 1);
+  }
+}
 
 /* The round's decision: when none of the group's items waits, a new batch of batch_size out of
  * item_count (or, out of items, giving up); otherwise, or then, a chunk of work when an item
@@ -362,8 +395,10 @@ LT_DEVICE lt_pool_round lt_pool_decide(const lt_pool *pool, lt_pool_worker *w, i
     if (w->gave_up && lt_pool_may_quit(pool)) r.quit = 1;
     else if (waiting || build) r.slot = lt_pool_take(pool, &r.chunk);
   }
-  if (r.batch < 0 && r.slot < 0 && !r.quit) lt_pool_idle(pool, &w->idle, &w->last_progress, max_idle_polls);
+  if (r.batch >= 0 || r.slot >= 0) lt_pool_busy(pool, w);
+  else if (!r.quit) lt_pool_idle(pool, w, max_idle_polls);
   if (lt_atomic_load_i32(&pool->control->error) != LT_POOL_OK) r.quit = 1;
+  if (r.quit) lt_pool_leave(pool, w);
   return r;
 }
 

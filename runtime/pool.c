@@ -8,7 +8,7 @@
 #include "runtime/stats_internal.h"
 
 lt_pool_config lt__pool_config_defaults(const lt_pool_config *config) {
-  lt_pool_config c = {65536, 1024, 1024, 4000000, 0};
+  lt_pool_config c = {65536, 1024, 1024, 200000000, 0};
   if (config) {
     if (config->capacity > 0) c.capacity = config->capacity;
     if (config->empty_cache_size > 0) c.empty_cache_size = config->empty_cache_size;
@@ -72,6 +72,8 @@ lt_status lt__pool_begin_launch(lt__pool *pool) {
   if (control.error != LT_POOL_OK)
     return lt__fail(LT_ERROR_INVALID_ARGUMENT, "this pool stopped on an error earlier; create a new one");
   control.termination = pool->ctx->work_groups;
+  control.groups = pool->ctx->work_groups;
+  control.idle_groups = 0;
   control.work_next = 0;
   control.progress = 0;
   status = lt__buffer_write(pool->ctx, &pool->control, 0, sizeof control, &control);

@@ -197,6 +197,44 @@ static void pool_termination_counter(void **state) {
   free(h);
 }
 
+/* The stall cap counts only polls during which every work-group is idle and nothing moves: a
+ * work-group may wait any number of polls for another that is busy (tracing a long batch, or
+ * set aside by the operating system), but when all poll without progress the cap trips. */
+static void pool_stall_cap_waits_for_a_busy_group(void **state) {
+  (void)state;
+  host_pool *h = host_pool_new(8, LT_POOL_REQUESTED);
+  h->control.groups = 2;
+  lt_pool_worker a = lt_pool_worker_new(), b = lt_pool_worker_new();
+  lt_pool_busy(&h->pool, &b); /* b is tracing */
+  for (int i = 0; i < 1000; i++) lt_pool_idle(&h->pool, &a, 10);
+  assert_int_equal(h->control.error, LT_POOL_OK);
+  assert_int_equal(h->control.idle_groups, 1);
+
+  /* Both idle: the cap trips after 10 polls without progress... */
+  lt_pool_idle(&h->pool, &b, 10);
+  assert_int_equal(h->control.idle_groups, 2);
+  for (int i = 0; i < 10; i++) lt_pool_idle(&h->pool, &a, 10);
+  assert_int_equal(h->control.error, LT_POOL_OK);
+  lt_pool_idle(&h->pool, &a, 10);
+  assert_int_equal(h->control.error, LT_POOL_ERROR_STALL);
+
+  /* ...but not while progress moves, and a group that leaves counts as idle for good. */
+  h->control.error = LT_POOL_OK;
+  lt_pool_busy(&h->pool, &a), lt_pool_busy(&h->pool, &b);
+  assert_int_equal(h->control.idle_groups, 0);
+  for (int i = 0; i < 100; i++) {
+    lt_atomic_add_i32(&h->control.progress, 1);
+    lt_pool_idle(&h->pool, &a, 10);
+  }
+  assert_int_equal(h->control.error, LT_POOL_OK);
+  lt_pool_leave(&h->pool, &b);
+  lt_pool_leave(&h->pool, &b);
+  assert_int_equal(h->control.idle_groups, 2);
+  for (int i = 0; i < 12; i++) lt_pool_idle(&h->pool, &a, 10);
+  assert_int_equal(h->control.error, LT_POOL_ERROR_STALL);
+  free(h);
+}
+
 /* ---- The scheduler end to end: lazy sorts on every backend ---- */
 
 typedef struct backend {
@@ -256,7 +294,9 @@ static double run_sort(const backend *b, lt_build_mode mode, uint64_t seed, size
   return tasks;
 }
 
+
 static const backend backends[] = {{LT_DEVICE_NATIVE, 2, 1}, {LT_DEVICE_OPENCL, 0, 8}};
+
 
 /* Zero tasks (nothing to sort), one task (a root whose children are small), and all
  * work-groups running out of own work at once (no queries at all). */
@@ -416,6 +456,7 @@ int main(void) {
       cmocka_unit_test(pool_stale_priority_entry_is_not_a_request),
       cmocka_unit_test(pool_full_is_reported),
       cmocka_unit_test(pool_termination_counter),
+      cmocka_unit_test(pool_stall_cap_waits_for_a_busy_group),
       cmocka_unit_test(pool_terminates_with_zero_one_and_no_queries),
       cmocka_unit_test(pool_full_reports_and_succeeds_when_retried_larger),
       cmocka_unit_test(pool_persists_across_launches),
