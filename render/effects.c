@@ -6,9 +6,10 @@
  *   L(x) = Le + (1 - m) * albedo * (sum over lights of E cos / pi * V  +  indirect) + m * L(mirror)
  *
  * where indirect is estimated by cosine-sampled diffuse rays (radiance of what they hit, the
- * background where they escape), or else by ambient occlusion (the background times the
- * unoccluded fraction), or else, with neither, by the background times |cos| to the viewer (a
- * light at the eye, so that a primary-only image still shows shape). */
+ * background where they escape), or by ambient occlusion (the background times the unoccluded
+ * fraction), or, with neither, by the background times |cos| to the viewer (a light at the
+ * eye, so that a primary-only image still shows shape). With both on the camera path, AO
+ * carries the background's light and diffuse rays only the light from surfaces they hit. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -156,6 +157,7 @@ static int indirect_light(const lt__shading *sh, const surface *s, const lt__pat
                           float *image, lt__batch out[LT_EFFECT_COUNT]) {
   const lt_effects *fx = &sh->effects;
   float eps = surface_offset(s->p);
+  int ao = path->camera && fx->ao_samples > 0;
   if (fx->diffuse_samples > 0 && path->bounces < fx->diffuse_bounces) {
     /* Cosine sampling cancels the cosine and 1/pi: each ray carries albedo / samples. The
      * camera path branches into all samples, later bounces continue with one ray. */
@@ -163,20 +165,22 @@ static int indirect_light(const lt__shading *sh, const surface *s, const lt__pat
     for (int i = 0; i < k; i++) {
       lt__path child = *path;
       child.camera = 0, child.bounces = (uint8_t)(path->bounces + 1), child.rng = lt__path_rng_mix(path->rng, 2 * i + 1);
+      child.no_sky = (uint8_t)ao;
       for (int c = 0; c < 3; c++) child.weight[c] = wd[c] / k;
       lt_ray ray = {{s->p[0], s->p[1], s->p[2]}, eps, {0, 0, 0}, INFINITY};
       cosine_direction(s->n, &child.rng, ray.dir);
       if (lt__batch_push(&out[LT_EFFECT_DIFFUSE], &ray, &child)) return 1;
     }
-  } else if (path->camera && fx->ao_samples > 0) {
+  }
+  if (ao) {
     /* The background from every unoccluded direction within the distance. */
     uint64_t rng = lt__path_rng_mix(path->rng, 0);
     for (int i = 0; i < fx->ao_samples; i++) {
-      lt__path ao = *path;
-      for (int c = 0; c < 3; c++) ao.weight[c] = wd[c] * sh->background[c] / fx->ao_samples;
+      lt__path occlusion = *path;
+      for (int c = 0; c < 3; c++) occlusion.weight[c] = wd[c] * sh->background[c] / fx->ao_samples;
       lt_ray ray = {{s->p[0], s->p[1], s->p[2]}, eps, {0, 0, 0}, fx->ao_distance};
       cosine_direction(s->n, &rng, ray.dir);
-      if (lt__batch_push(&out[LT_EFFECT_AO], &ray, &ao)) return 1;
+      if (lt__batch_push(&out[LT_EFFECT_AO], &ray, &occlusion)) return 1;
     }
   } else if (path->camera && fx->diffuse_samples == 0) {
     float c = s->cos_view;
@@ -195,7 +199,7 @@ int lt__shade_hits(const lt__shading *sh, const lt__batch *batch, const lt_hit *
 
     /* A ray that escapes sees the background. */
     if (hits[i].prim < 0) {
-      add(image, path->pixel, path->weight, sh->background);
+      if (!path->no_sky) add(image, path->pixel, path->weight, sh->background);
       continue;
     }
     if (!surface_at(sh, ray, &hits[i], &s)) continue;

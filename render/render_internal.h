@@ -25,7 +25,7 @@ typedef struct lt__path {
   uint8_t camera;   /* 1 byte: on the camera path (the primary ray and mirror reflections of it) */
   uint8_t bounces;  /* 1 byte: diffuse bounces taken before this ray */
   uint8_t mirrors;  /* 1 byte: mirror reflections taken before this ray */
-  uint8_t pad;      /* 1 byte */
+  uint8_t no_sky;   /* 1 byte: escaping adds nothing (AO already counted the background) */
   float weight[3];  /* 12 bytes: throughput (for shadow and AO rays: the whole contribution) */
   uint64_t rng;     /* 8 bytes: this path's random state */
 } lt__path;

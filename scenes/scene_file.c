@@ -133,6 +133,13 @@ static lt_status element_object(const reader *r, const cJSON *item, const char *
 
 /* ---- Meshes and instances ---- */
 
+/* A loader's or generator's error, prefixed with the scene file and the key. */
+static lt_status wrap(const reader *r, const char *key, lt_status status) {
+  char inner[512];
+  snprintf(inner, sizeof inner, "%s", lt_last_error());
+  return lt__fail(status, "%s: %s: %s", r->path, key, inner);
+}
+
 /* One mesh as a scene of its own: a generator spec or a file relative to the scene file. */
 static lt_status load_mesh(const reader *r, const cJSON *item, int index, lt_scene **out) {
   static const char *const keys[] = {"generator", "file", NULL};
@@ -157,7 +164,7 @@ static lt_status load_mesh(const reader *r, const cJSON *item, int index, lt_sce
       char *colon = strchr(name, ':');
       if (colon) *colon = '\0';
       status = lt__generate(name, colon ? colon + 1 : NULL, mesh);
-      if (status) status = lt__fail(status, "%s: %s: %s", r->path, key, lt_last_error());
+      if (status) status = wrap(r, key, status);
     }
   } else {
     snprintf(key, sizeof key, "meshes[%d].file", index);
@@ -173,7 +180,7 @@ static lt_status load_mesh(const reader *r, const cJSON *item, int index, lt_sce
       n = strlen(path);
       int obj = n >= 4 && (strcmp(path + n - 4, ".obj") == 0 || strcmp(path + n - 4, ".OBJ") == 0);
       status = obj ? lt__load_obj(path, mesh) : lt__load_assimp(path, mesh);
-      if (status) status = lt__fail(status, "%s: %s: %s", r->path, key, lt_last_error());
+      if (status) status = wrap(r, key, status);
     }
   }
   if (status) return lt_scene_destroy(mesh), status;
