@@ -13,6 +13,8 @@ typedef struct lt_cli {
   const char *rays, *hits, *stats;
   int any;
   int width, height;
+  int size_given; /* --size was given: it overrides a scene file's image size */
+  int spp;        /* --spp, or 0: the scene's */
   int agents, rays_per_agent, frames;
   uint64_t seed;
   int build_given;

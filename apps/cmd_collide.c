@@ -56,6 +56,16 @@ int lt_cmd_collide(lt_cli *cli) {
   lt_stats_set(stats, "trace_ms", trace_sum);
   lt_stats_set(stats, "total_ms", build_sum + trace_sum);
   lt_stats_set(stats, "rays", (double)n * cli->frames);
+
+  /* Every ray here is a collision ray, as a scene file's collision effect would count it. */
+  static const char *const effects[] = {"primary", "shadows", "ao", "diffuse", "mirror", "collision"};
+  for (int e = 0; e < 6; e++) {
+    char key[64];
+    snprintf(key, sizeof key, "rays_by_effect.%s", effects[e]);
+    lt_stats_set(stats, key, e == 5 ? (double)n * cli->frames : 0.0);
+    snprintf(key, sizeof key, "ms_by_effect.%s", effects[e]);
+    lt_stats_set(stats, key, e == 5 ? build_sum + trace_sum : 0.0);
+  }
   rc = lt_cli_write_stats(cli, stats);
 
 done:

@@ -51,7 +51,7 @@ static int apply(lt_cli *cli, const char *option, const char *value) {
     int w = 0, h = 0, used = 0;
     if (sscanf(value, "%dx%d%n", &w, &h, &used) != 2 || value[used] || w <= 0 || h <= 0 || w > 16384 || h > 16384)
       return bad(option, value, "WIDTHxHEIGHT, each 1 to 16384");
-    cli->width = w, cli->height = h;
+    cli->width = w, cli->height = h, cli->size_given = 1;
   } else if (strcmp(option, "--seed") == 0) {
     char *end;
     errno = 0;
@@ -62,6 +62,7 @@ static int apply(lt_cli *cli, const char *option, const char *value) {
     int *slot = strcmp(option, "--agents") == 0           ? &cli->agents
                 : strcmp(option, "--rays-per-agent") == 0 ? &cli->rays_per_agent
                 : strcmp(option, "--frames") == 0         ? &cli->frames
+                : strcmp(option, "--spp") == 0            ? &cli->spp
                 : strcmp(option, "--work-groups") == 0    ? &cli->context.work_groups
                 : strcmp(option, "--local-size") == 0     ? &cli->context.local_size
                 : strcmp(option, "--leaf-size") == 0      ? &cli->structure.max_leaf_size

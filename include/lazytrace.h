@@ -256,6 +256,73 @@ lt_status lt_lazy_sort_progress(lt_lazy_sort *sort, size_t *nodes_built, size_t 
 /* Milliseconds on a monotonic clock, for callers timing their own phases. */
 double lt_now_ms(void);
 
+/* ==== Scene descriptions and effects (scene files) ====
+ * A scene file (.json, loaded by lt_scene_load) describes meshes, instances, materials, lights,
+ * camera, image and the effects to simulate; generators and mesh files get a default
+ * description (one grey diffuse material, no lights, primary rays only). lt_render traces only
+ * the ray batches the effects call for, each batch through the same structure. */
+
+/* A Lambertian surface with an optional perfect mirror part and emission. */
+typedef struct lt_material {
+  float diffuse[3];  /* albedo, each in [0, 1]; default 0.8 */
+  float mirror;      /* weight of the perfect mirror part, in [0, 1]; default 0 */
+  float emission[3]; /* emitted radiance; default 0 */
+} lt_material;
+
+typedef enum { LT_LIGHT_POINT = 0, LT_LIGHT_DIRECTIONAL } lt_light_kind;
+
+typedef struct lt_light {
+  lt_light_kind kind;
+  float vector[3];    /* the position of a point light, or the direction a directional light shines */
+  float intensity[3]; /* point: intensity (irradiance intensity / distance^2); directional: irradiance */
+} lt_light;
+
+/* What to simulate. Every effect but collision starts from the primary hits. */
+typedef struct lt_effects {
+  int primary;          /* camera rays, closest hit */
+  int shadows;          /* any-hit rays towards each light from every shaded point (0: unshadowed) */
+  int ao_samples;       /* ambient-occlusion rays per camera-path hit, any hit; 0: off */
+  float ao_distance;    /* their length */
+  int diffuse_samples;  /* cosine-sampled rays per camera-path hit; 0: off */
+  int diffuse_bounces;  /* diffuse bounces followed from there, at least 1 */
+  int mirror_depth;     /* reflections followed from mirror materials; 0: off */
+  int collision_agents; /* collision agents (lt_collision_paths); 0: off */
+  int collision_rays;   /* rays per agent and frame */
+  int collision_frames; /* frames, each one batch on the same structure */
+} lt_effects;
+
+/* Materials of the scene (at least one) and the material of triangle tri. */
+size_t lt_scene_material_count(const lt_scene *scene);
+const lt_material *lt_scene_materials(const lt_scene *scene);
+int lt_scene_triangle_material(const lt_scene *scene, size_t tri);
+size_t lt_scene_light_count(const lt_scene *scene);
+const lt_light *lt_scene_lights(const lt_scene *scene);
+lt_effects lt_scene_effects(const lt_scene *scene);
+/* Image size and samples per pixel the scene asks for; 0 where it names none. */
+void lt_scene_image(const lt_scene *scene, int *width, int *height, int *spp);
+/* Radiance arriving from outside the scene (misses, ambient occlusion, diffuse rays). */
+void lt_scene_background(const lt_scene *scene, float rgb[3]);
+
+typedef struct lt_render_config {
+  int width, height;         /* 0: the scene's, else 1024 */
+  int spp;                   /* camera samples per pixel (jittered when above 1); 0: the scene's, else 1 */
+  const lt_effects *effects; /* NULL: the scene's */
+  uint64_t seed;             /* every random number derives from it and the pixel; same seed, same image */
+  size_t max_batch;          /* rays per batch at most (the image is cut into tiles); 0: 2M */
+  int progress;              /* nonzero: progress on stderr once a render has taken 3 s */
+} lt_render_config;
+
+/* Renders the scene through structure (NULL: the brute-force reference, lt_reference_trace).
+ * rgb gets 3 linear floats per pixel, row by row from the top (width*height*3, allocated by the
+ * caller from the size lt_render_size gives). stats, if not NULL, get the structure's counters
+ * summed over all batches, rays_by_effect, ms_by_effect and one record per batch. */
+lt_status lt_render(lt_structure *structure, const lt_scene *scene, const lt_render_config *config, float *rgb,
+                    lt_stats *stats);
+/* The image size and spp lt_render will use for this scene and config. */
+void lt_render_size(const lt_scene *scene, const lt_render_config *config, int *width, int *height, int *spp);
+/* Linear RGB to 8-bit sRGB (the standard transfer curve), clamped to [0, 1]. */
+void lt_image_to_srgb8(const float *rgb, size_t pixels, unsigned char *out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -85,6 +85,45 @@ static void write_number(FILE *out, double v, int is_time) {
   else fprintf(out, "%.6g", v);
 }
 
+void lt__stats_batch(lt_stats *stats, const char *effect, double rays, double ms, double nodes_built) {
+  if (!stats) return;
+  if (stats->batch_count == LT_STATS_MAX_BATCHES) {
+    stats->batches_more++;
+    return;
+  }
+  lt__batch_record *b = &stats->batches[stats->batch_count++];
+  snprintf(b->effect, sizeof b->effect, "%s", effect);
+  b->rays = rays, b->ms = ms, b->nodes_built = nodes_built;
+}
+
+/* The length of a nested key's prefix ("pool" of "pool.tasks"), or 0 for a top-level key. */
+static size_t prefix_length(const char *key) {
+  const char *dot = strchr(key, '.');
+  return dot ? (size_t)(dot - key) : 0;
+}
+
+/* The nested object whose keys start with the prefix of key i; a group whose values all do not
+ * apply is null, except the pool's, which has always been written as an object. */
+static void write_group(const lt_stats *stats, FILE *out, int first) {
+  size_t n = prefix_length(key_names[first]);
+  int any = strncmp(key_names[first], "pool.", 5) == 0;
+  for (int i = first; i < LT_STAT_COUNT; i++)
+    if (prefix_length(key_names[i]) == n && strncmp(key_names[i], key_names[first], n) == 0) any |= stats->value[i] >= 0;
+  fprintf(out, ",\n  \"%.*s\": ", (int)n, key_names[first]);
+  if (!any) {
+    fputs("null", out);
+    return;
+  }
+  const char *sep = "{";
+  for (int i = first; i < LT_STAT_COUNT; i++) {
+    if (prefix_length(key_names[i]) != n || strncmp(key_names[i], key_names[first], n) != 0) continue;
+    fprintf(out, "%s\"%s\": ", sep, key_names[i] + n + 1);
+    write_number(out, stats->value[i], strstr(key_names[i], "_ms") != NULL || strncmp(key_names[i], "ms_", 3) == 0);
+    sep = ", ";
+  }
+  fputs("}", out);
+}
+
 lt_status lt_stats_write_json(const lt_stats *stats, FILE *out) {
   if (!stats || !out) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_stats_write_json: NULL argument");
   fputs("{\n  \"structure\": ", out);
@@ -94,21 +133,38 @@ lt_status lt_stats_write_json(const lt_stats *stats, FILE *out) {
   fputs(",\n  \"device\": ", out);
   write_string(out, stats->device);
 
-  /* Top-level numbers first, then the pool's counters as one nested object. */
+  /* Top-level numbers first, then each group of dotted keys as one nested object, in the
+   * order the list gives them. */
   for (int i = 0; i < LT_STAT_COUNT; i++) {
-    if (strncmp(key_names[i], "pool.", 5) == 0) continue;
+    if (prefix_length(key_names[i])) continue;
     fprintf(out, ",\n  \"%s\": ", key_names[i]);
     write_number(out, stats->value[i], strstr(key_names[i], "_ms") != NULL);
   }
-  fputs(",\n  \"pool\": {", out);
-  const char *sep = "";
   for (int i = 0; i < LT_STAT_COUNT; i++) {
-    if (strncmp(key_names[i], "pool.", 5) != 0) continue;
-    fprintf(out, "%s\"%s\": ", sep, key_names[i] + 5);
-    write_number(out, stats->value[i], 0);
-    sep = ", ";
+    size_t n = prefix_length(key_names[i]);
+    if (n && (i == 0 || prefix_length(key_names[i - 1]) != n || strncmp(key_names[i - 1], key_names[i], n) != 0))
+      write_group(stats, out, i);
   }
-  fputs("}\n}\n", out);
+
+  /* A render's batches, one record each. */
+  fputs(",\n  \"batches\": ", out);
+  if (stats->batch_count == 0) fputs("null", out);
+  for (int b = 0; b < stats->batch_count; b++) {
+    const lt__batch_record *r = &stats->batches[b];
+    fprintf(out, "%s\n    {\"effect\": ", b ? "," : "[");
+    write_string(out, r->effect);
+    fputs(", \"rays\": ", out);
+    write_number(out, r->rays, 0);
+    fputs(", \"ms\": ", out);
+    write_number(out, r->ms, 1);
+    fputs(", \"nodes_built\": ", out);
+    write_number(out, r->nodes_built, 0);
+    fputs("}", out);
+  }
+  if (stats->batch_count) fputs("\n  ]", out);
+  fputs(",\n  \"batches_not_recorded\": ", out);
+  write_number(out, stats->batch_count ? (double)stats->batches_more : -1.0, 0);
+  fputs("\n}\n", out);
   return ferror(out) ? lt__fail(LT_ERROR_IO, "writing statistics failed") : LT_OK;
 }
 

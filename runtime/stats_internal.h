@@ -35,7 +35,24 @@
   X(LT_STAT_POOL_SCANS, "pool.scans")        \
   X(LT_STAT_POOL_EMPTY_HITS, "pool.empty_cache_hits") \
   X(LT_STAT_POOL_CHUNKS, "pool.chunks")      \
-  X(LT_STAT_POOL_IDLE, "pool.idle_polls")
+  X(LT_STAT_POOL_IDLE, "pool.idle_polls")  \
+  LT_STAT_EFFECT_LIST(X)
+
+/* Rays traced and milliseconds (build plus trace) spent per effect by lt_render; null for
+ * commands that render nothing. Keys before the dot name a nested JSON object. */
+#define LT_STAT_EFFECT_LIST(X)                               \
+  X(LT_STAT_RAYS_PRIMARY, "rays_by_effect.primary")          \
+  X(LT_STAT_RAYS_SHADOWS, "rays_by_effect.shadows")          \
+  X(LT_STAT_RAYS_AO, "rays_by_effect.ao")                    \
+  X(LT_STAT_RAYS_DIFFUSE, "rays_by_effect.diffuse")          \
+  X(LT_STAT_RAYS_MIRROR, "rays_by_effect.mirror")            \
+  X(LT_STAT_RAYS_COLLISION, "rays_by_effect.collision")      \
+  X(LT_STAT_MS_PRIMARY, "ms_by_effect.primary")              \
+  X(LT_STAT_MS_SHADOWS, "ms_by_effect.shadows")              \
+  X(LT_STAT_MS_AO, "ms_by_effect.ao")                        \
+  X(LT_STAT_MS_DIFFUSE, "ms_by_effect.diffuse")              \
+  X(LT_STAT_MS_MIRROR, "ms_by_effect.mirror")                \
+  X(LT_STAT_MS_COLLISION, "ms_by_effect.collision")
 
 typedef enum {
 #define LT_STAT_ENUM(id, key) id,
@@ -44,17 +61,30 @@ typedef enum {
       LT_STAT_COUNT
 } lt_stat_id;
 
+/* One traced batch of a render: which effect, how many rays, build plus trace time, and the
+ * nodes built once it was done (null where unknown). Written as the "batches" array. */
+#define LT_STATS_MAX_BATCHES 256
+typedef struct lt__batch_record {
+  char effect[16];
+  double rays, ms, nodes_built;
+} lt__batch_record;
+
 struct lt_stats {
   char structure[64];
   char build[64];
   char device[192];
   double value[LT_STAT_COUNT];
+  int batch_count;   /* records kept */
+  long batches_more; /* batches past LT_STATS_MAX_BATCHES: counted in the totals, not recorded */
+  lt__batch_record batches[LT_STATS_MAX_BATCHES];
 };
 
 /* Adds to a counter (a "does not apply" counter starts from 0); no-op on a NULL stats. */
 void lt__stats_add(lt_stats *stats, lt_stat_id id, double value);
 /* Overwrites a value; no-op on a NULL stats. */
 void lt__stats_put(lt_stats *stats, lt_stat_id id, double value);
+/* Records one batch of a render (kept up to LT_STATS_MAX_BATCHES, then only counted). */
+void lt__stats_batch(lt_stats *stats, const char *effect, double rays, double ms, double nodes_built);
 /* Sets "structure", "build" or "device". */
 void lt__stats_text(lt_stats *stats, const char *key, const char *text);
 

@@ -85,7 +85,9 @@ lt_status lt_scene_load(const char *spec, lt_scene **out) {
 
   /* A spec that names a file is read as a mesh; anything else is a generator. */
   if (looks_like_file(spec) && !strchr(spec, ':')) {
-    status = has_suffix(spec, ".obj") ? lt__load_obj(spec, scene) : lt__load_assimp(spec, scene);
+    status = has_suffix(spec, ".obj")    ? lt__load_obj(spec, scene)
+             : has_suffix(spec, ".json") ? lt__load_scene_file(spec, scene)
+                                         : lt__load_assimp(spec, scene);
   } else {
     snprintf(name, sizeof name, "%s", spec);
     char *at = strchr(name, '@');
@@ -118,6 +120,7 @@ lt_status lt_scene_load(const char *spec, lt_scene **out) {
 
 void lt_scene_destroy(lt_scene *scene) {
   if (!scene) return;
+  lt__scene_desc_free(scene->desc);
   free(scene->tris);
   free(scene);
 }

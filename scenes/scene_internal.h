@@ -16,7 +16,24 @@ struct lt_scene {
   int active_camera;     /* index into cameras, or -1 for "frame the bounds" */
   char camera_names[LT_SCENE_MAX_CAMERAS][16];
   lt_camera cameras[LT_SCENE_MAX_CAMERAS];
+  struct lt__scene_desc *desc; /* materials, lights, effects; NULL: the default description */
 };
+
+/* What a scene file says beyond the triangles (scene_desc.c holds the defaults). */
+typedef struct lt__scene_desc {
+  lt_material *materials; /* at least one */
+  size_t material_count;
+  int *tri_material;      /* one per triangle, or NULL: all material 0 */
+  lt_light *lights;
+  size_t light_count;
+  float background[3];
+  int width, height, spp; /* 0: not given */
+  lt_effects effects;
+} lt__scene_desc;
+
+/* The default description: one grey diffuse material, no lights, primary rays only. */
+void lt__scene_desc_defaults(lt__scene_desc *desc);
+void lt__scene_desc_free(lt__scene_desc *desc);
 
 /* A new, empty scene; NULL when out of memory. */
 lt_scene *lt__scene_new(void);
@@ -38,5 +55,8 @@ lt_status lt__generate(const char *name, const char *args, lt_scene *scene);
 lt_status lt__load_obj(const char *path, lt_scene *scene);
 /* Other formats through assimp. */
 lt_status lt__load_assimp(const char *path, lt_scene *scene);
+/* A scene file (.json): meshes placed by instances, materials, lights, camera, image, effects.
+ * Errors name the file, the key and what was expected. */
+lt_status lt__load_scene_file(const char *path, lt_scene *scene);
 
 #endif

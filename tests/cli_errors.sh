@@ -72,6 +72,25 @@ else
   fail "collide --structure lbvh: $(head -c 300 "$T/err") $(head -c 300 "$T/col.json" 2>/dev/null)"
 fi
 
+# Scene files: a bad one names the file and the key; a good one renders only the effects it
+# calls for, and the statistics count rays by effect.
+printf '{"meshes": [{"generator": "sphere:2"}], "lights": [{"point": [0, 3, -3], "intensity": [9, 9, 9]}],\n "effects": {"shadows": true, "ao": {"samples": 2, "distance": 0.5}, "mirror": {"depth": 2}}}\n' >"$T/ok.json"
+printf '{"meshes": [{"generator": "sphere:2"}], "effects": {"ao": {"samples": "many"}}}\n' >"$T/badkey.json"
+printf '{"meshes": [{"generator": "sphere:2"}],\n "lights": [}\n' >"$T/syntax.json"
+expect_error "scene file: bad value names file and key" "badkey\.json: effects\.ao\.samples: expected a whole number" render "$T/badkey.json" --size 8x8 -o "$T/x.png"
+expect_error "scene file: malformed JSON names line" "syntax\.json:2:.*malformed JSON" render "$T/syntax.json" --size 8x8 -o "$T/x.png"
+if "$LT" render "$T/ok.json" --size 24x16 --device native -o "$T/ok.png" --stats "$T/ok.stats" 2>"$T/err" >/dev/null &&
+   python3 - "$T/ok.stats" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1])); r = s["rays_by_effect"]
+assert r["primary"] == 24 * 16 and r["shadows"] > 0 and r["ao"] > 0, r
+assert r["diffuse"] == 0 and r["mirror"] == 0 and r["collision"] == 0, r
+assert s["rays"] == sum(r.values()) and len(s["batches"]) == 3, s["batches"]
+PY
+then pass "render a scene file: rays_by_effect and batches"; else fail "render a scene file: $(head -c 300 "$T/err")"; fi
+if "$LT" trace sphere:2 --rays "$T/one.rays" --hits "$T/x.hits" --stats "$T/t.json" 2>/dev/null >/dev/null &&
+   grep -q '"rays_by_effect": null' "$T/t.json"; then pass "trace: rays_by_effect is null"; else fail "trace: rays_by_effect not null"; fi
+
 # Help on every command.
 for c in render trace collide scene devices; do
   "$LT" help $c | grep -q "lazytrace $c" && "$LT" $c --help | grep -q "lazytrace $c" && pass "help $c" || fail "help $c"
