@@ -16,24 +16,13 @@
 #include <string.h>
 
 #include "lazytrace.h"
+#include "benchmarks/median.h"
 
 #define MAX_RUNS    16
 #define MAX_SAMPLES 16
 #define METHODS     4
 enum { FULL, REQUESTED, SPECULATIVE, LBVH };
 static const char *const method_names[METHODS] = {"full", "requested", "speculative", "lbvh"};
-
-static int compare_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
-static double median(const double *v, int n) {
-  double s[MAX_RUNS];
-  memcpy(s, v, n * sizeof *s);
-  qsort(s, n, sizeof *s, compare_double);
-  return n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
-}
 
 typedef struct figures {
   double total[MAX_RUNS], build[MAX_RUNS], trace[MAX_RUNS];
@@ -128,7 +117,7 @@ int main(int argc, char **argv) {
       }
     if (rc) break;
     double ms[METHODS];
-    for (int m = 0; m < METHODS; m++) ms[m] = median(f[m].total, runs);
+    for (int m = 0; m < METHODS; m++) ms[m] = lt_bench_median(f[m].total, runs);
     double rays = f[FULL].rays;
     printf("| %d | %.2fM | %.0f | %.0f | %.0f | %.0f | %.2f | %.2f | %.2f | %.2f | %.1f%% | %.1f%% |\n", samples[s],
            rays / 1e6, ms[FULL], ms[REQUESTED], ms[SPECULATIVE], ms[LBVH], ms[REQUESTED] / ms[FULL],

@@ -16,6 +16,7 @@
 #include "lazytrace.h"
 #ifdef LT_HAVE_EMBREE
 #include "benchmarks/embree_peer.h"
+#include "benchmarks/median.h"
 #endif
 
 #define MAX_RUNS 16
@@ -28,17 +29,6 @@ typedef struct figures {
   double nodes, nodes_full, sort_ops;
   int ok;
 } figures;
-
-static int compare_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-static double median(const double *v, int n) {
-  double s[MAX_RUNS];
-  memcpy(s, v, n * sizeof *s);
-  qsort(s, n, sizeof *s, compare_double);
-  return n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
-}
 
 /* A sequence of batches traced on one structure: (rays, count, any-hit). */
 typedef struct batch {
@@ -121,20 +111,20 @@ static void csv_row(FILE *csv, const char *scene, const char *camera, const char
   for (int m = 0; m < METHODS; m++)
     if (f[m].ok)
       fprintf(csv, "%s,%s,%s,%s,%.2f,%.2f,%.2f,%.0f,%.0f\n", scene, camera, workload, method_names[m],
-              median(f[m].total, runs), median(f[m].build, runs), median(f[m].trace, runs),
+              lt_bench_median(f[m].total, runs), lt_bench_median(f[m].build, runs), lt_bench_median(f[m].trace, runs),
               m == EMBREE ? -1.0 : f[m].nodes, m == EMBREE ? -1.0 : f[m].sort_ops);
 }
 
 static void print_row(const char *label, size_t rays, const figures *f, int runs) {
   printf("| %s | %.2fM |", label, rays / 1e6);
   for (int m = 0; m < METHODS; m++) {
-    if (f[m].ok) printf(" %.0f |", median(f[m].total, runs));
+    if (f[m].ok) printf(" %.0f |", lt_bench_median(f[m].total, runs));
     else printf(" - |");
   }
-  double full = median(f[FULL].total, runs), req = median(f[REQUESTED].total, runs), spec = median(f[SPECULATIVE].total, runs);
+  double full = lt_bench_median(f[FULL].total, runs), req = lt_bench_median(f[REQUESTED].total, runs), spec = lt_bench_median(f[SPECULATIVE].total, runs);
   double best = req < spec ? req : spec;
   printf(" %.2f | %.2f |", req / full, spec / full);
-  if (f[EMBREE].ok) printf(" %.2f |", best / median(f[EMBREE].total, runs));
+  if (f[EMBREE].ok) printf(" %.2f |", best / lt_bench_median(f[EMBREE].total, runs));
   else printf(" - |");
   printf(" %.1f%% |\n", 100.0 * f[REQUESTED].nodes / f[FULL].nodes);
 }
@@ -204,13 +194,13 @@ static int sweep(int runs, int size, int max, FILE *csv) {
     if (run_all(scene, &b, 1, runs, f)) return 1;
     printf("| %d | %zu | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f |\n", counts[i],
            lt_scene_triangle_count(scene), f[FULL].nodes, f[REQUESTED].nodes, f[SPECULATIVE].nodes,
-           median(f[FULL].total, runs), median(f[REQUESTED].total, runs), median(f[SPECULATIVE].total, runs),
-           median(f[LBVH].total, runs), f[EMBREE].ok ? median(f[EMBREE].total, runs) : -1.0);
+           lt_bench_median(f[FULL].total, runs), lt_bench_median(f[REQUESTED].total, runs), lt_bench_median(f[SPECULATIVE].total, runs),
+           lt_bench_median(f[LBVH].total, runs), f[EMBREE].ok ? lt_bench_median(f[EMBREE].total, runs) : -1.0);
     if (csv)
       fprintf(csv, "%d,%zu,%.0f,%.0f,%.0f,%.2f,%.2f,%.2f,%.2f,%.2f\n", counts[i], lt_scene_triangle_count(scene),
-              f[FULL].nodes, f[REQUESTED].nodes, f[SPECULATIVE].nodes, median(f[FULL].total, runs),
-              median(f[REQUESTED].total, runs), median(f[SPECULATIVE].total, runs), median(f[LBVH].total, runs),
-              f[EMBREE].ok ? median(f[EMBREE].total, runs) : -1.0);
+              f[FULL].nodes, f[REQUESTED].nodes, f[SPECULATIVE].nodes, lt_bench_median(f[FULL].total, runs),
+              lt_bench_median(f[REQUESTED].total, runs), lt_bench_median(f[SPECULATIVE].total, runs), lt_bench_median(f[LBVH].total, runs),
+              f[EMBREE].ok ? lt_bench_median(f[EMBREE].total, runs) : -1.0);
     free(rays);
     lt_scene_destroy(scene);
   }
@@ -248,9 +238,9 @@ static int collide(int argc, char **argv, int runs, FILE *csv) {
         f[m].total[run] = total, f[m].nodes = nodes / frames, f[m].ok = 1;
         fprintf(stderr, "    %-11s run %d: %8.1f ms\n", method_names[m], run + 1, total);
       }
-    double full = median(f[FULL].total, runs), req = median(f[REQUESTED].total, runs);
-    double spec = median(f[SPECULATIVE].total, runs), best = req < spec ? req : spec;
-    double lbvh = median(f[LBVH].total, runs), embree = f[EMBREE].ok ? median(f[EMBREE].total, runs) : -1;
+    double full = lt_bench_median(f[FULL].total, runs), req = lt_bench_median(f[REQUESTED].total, runs);
+    double spec = lt_bench_median(f[SPECULATIVE].total, runs), best = req < spec ? req : spec;
+    double lbvh = lt_bench_median(f[LBVH].total, runs), embree = f[EMBREE].ok ? lt_bench_median(f[EMBREE].total, runs) : -1;
     printf("| %s | %zu | %.0f | %.0f | %.0f | %.0f | %.0f | %.2f | %.2f | %.0f |\n", argv[i],
            lt_scene_triangle_count(scene), full, req, spec, lbvh, embree, best / full, best / lbvh, f[REQUESTED].nodes);
     if (csv) fprintf(csv, "%s,%.2f,%.2f,%.2f,%.2f,%.2f\n", argv[i], full, req, spec, lbvh, embree);

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "lazytrace.h"
+#include "benchmarks/median.h"
 
 #define MAX_RUNS 32
 
@@ -19,15 +20,6 @@ static int compare_u32(const void *a, const void *b) {
   uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
   return (x > y) - (x < y);
 }
-static int compare_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-static double median(double *v, int n) {
-  qsort(v, n, sizeof *v, compare_double);
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 typedef struct result {
   double ms[MAX_RUNS], tasks, chunks, levels;
 } result;
@@ -103,16 +95,16 @@ int main(int argc, char **argv) {
         if (measure(ctx, keys, sorted, n, mode, run, &r[mode])) return 1;
         fprintf(stderr, "  %s, %s, run %d: %.1f ms\n", lt_context_device_name(ctx), names[mode], run + 1, r[mode].ms[run]);
       }
-    double level_ms = median(r[1].ms, runs);
+    double level_ms = lt_bench_median(r[1].ms, runs);
     for (int mode = 0; mode < 3; mode++) {
-      double ms = median(r[mode].ms, runs), tasks = r[mode].tasks > 0 ? r[mode].tasks : 1;
+      double ms = lt_bench_median(r[mode].ms, runs), tasks = r[mode].tasks > 0 ? r[mode].tasks : 1;
       printf("| %s, %d work-groups | %s | %.1f | %.0f | %.0f | %.0f | %.0f | %.2f | %.2fx |\n",
              b == 0 ? "OpenCL (PoCL)" : "native", groups, names[mode], ms, r[mode].tasks, r[mode].chunks,
              mode == 1 ? r[mode].levels : 1.0, tasks / ms * 1e3, ms * 1e3 * groups / tasks, ms / level_ms);
     }
     lt_context_destroy(ctx);
   }
-  printf("| host | C library qsort, 1 thread | %.1f | - | - | - | - | - | %s |\n", median(qsort_ms, runs), "-");
+  printf("| host | C library qsort, 1 thread | %.1f | - | - | - | - | - | %s |\n", lt_bench_median(qsort_ms, runs), "-");
   free(keys), free(sorted), free(copy);
   return 0;
 }

@@ -10,19 +10,10 @@
 #include "lazytrace.h"
 #ifdef LT_HAVE_EMBREE
 #include "benchmarks/embree_peer.h"
+#include "benchmarks/median.h"
 #endif
 
 #define MAX_RUNS 64
-
-static int compare_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
-static double median(double *v, int n) {
-  qsort(v, n, sizeof *v, compare_double);
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 typedef struct row {
   const char *name;
@@ -32,7 +23,7 @@ typedef struct row {
 } row;
 
 static void print_row(row *r, int runs, size_t rays, double embree_total) {
-  double b = median(r->build, runs), t = median(r->trace, runs);
+  double b = lt_bench_median(r->build, runs), t = lt_bench_median(r->trace, runs);
   printf("| %s | %.1f | %.1f | %.1f | %.2f |", r->name, b, t, b + t, rays / 1e3 / t);
   if (embree_total > 0) printf(" %.2fx |\n", (b + t) / embree_total);
   else printf(" - |\n");
@@ -108,7 +99,7 @@ int main(int argc, char **argv) {
   if (embree.ok) {
     double b[MAX_RUNS], t[MAX_RUNS];
     memcpy(b, embree.build, sizeof b), memcpy(t, embree.trace, sizeof t);
-    embree_total = median(b, runs) + median(t, runs);
+    embree_total = lt_bench_median(b, runs) + lt_bench_median(t, runs);
   }
 #endif
 

@@ -15,36 +15,7 @@
 #include <unistd.h>
 
 #include "lazytrace.h"
-
-#define MAX_FILES 64
-#define PATH_SIZE 512
-
-static char temp_dir[64];
-static char file_paths[MAX_FILES][PATH_SIZE];
-static int file_count;
-
-static int make_temp_dir(void **state) {
-  (void)state;
-  snprintf(temp_dir, sizeof temp_dir, "/tmp/lt_scene_file_XXXXXX");
-  return mkdtemp(temp_dir) ? 0 : -1;
-}
-
-static int remove_temp_dir(void **state) {
-  (void)state;
-  for (int i = 0; i < file_count; i++) unlink(file_paths[i]);
-  return rmdir(temp_dir);
-}
-
-static const char *write_file(const char *name, const char *text) {
-  assert_true(file_count < MAX_FILES);
-  char *path = file_paths[file_count++];
-  snprintf(path, PATH_SIZE, "%s/%s", temp_dir, name);
-  FILE *f = fopen(path, "wb");
-  assert_non_null(f);
-  assert_int_equal(fwrite(text, 1, strlen(text), f), strlen(text));
-  assert_int_equal(fclose(f), 0);
-  return path;
-}
+#include "tests/support.h"
 
 static lt_scene *load_ok(const char *path) {
   lt_scene *scene = NULL;
@@ -57,8 +28,8 @@ static const char one_triangle_obj[] = "v 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n";
 
 static void scene_file_issue_example_parses_every_key(void **state) {
   (void)state;
-  write_file("chair.obj", one_triangle_obj);
-  const char *path = write_file(
+  lt_test_write_file("chair.obj", one_triangle_obj);
+  const char *path = lt_test_write_file(
       "example.json",
       "{\"meshes\": [{\"generator\": \"sphere:1\"}, {\"file\": \"chair.obj\"}],\n"
       " \"instances\": [{\"mesh\": 0, \"translate\": [0, 0, 0], \"rotate_y\": 0, \"scale\": 1, \"material\": 0},\n"
@@ -104,8 +75,8 @@ static void scene_file_issue_example_parses_every_key(void **state) {
  * triangles carry its material. */
 static void scene_file_instances_transform_and_material(void **state) {
   (void)state;
-  write_file("tri.obj", one_triangle_obj);
-  const char *path = write_file("instances.json",
+  lt_test_write_file("tri.obj", one_triangle_obj);
+  const char *path = lt_test_write_file("instances.json",
                                 "{\"meshes\": [{\"file\": \"tri.obj\"}],\n"
                                 " \"materials\": [{}, {\"diffuse\": [1, 0, 0]}],\n"
                                 " \"instances\": [{\"mesh\": 0},\n"
@@ -131,7 +102,7 @@ static void scene_file_instances_transform_and_material(void **state) {
  * without a camera the generator's outer camera; without effects primary rays only. */
 static void scene_file_missing_sections_take_defaults(void **state) {
   (void)state;
-  const char *path = write_file("bare.json", "{\"meshes\": [{\"generator\": \"sphere:1\"}, {\"generator\": \"sphere:0\"}]}");
+  const char *path = lt_test_write_file("bare.json", "{\"meshes\": [{\"generator\": \"sphere:1\"}, {\"generator\": \"sphere:0\"}]}");
   lt_scene *scene = load_ok(path), *sphere = load_ok("sphere:1");
   assert_int_equal(lt_scene_triangle_count(scene), 80 + 20);
   assert_int_equal(lt_scene_material_count(scene), 1);
@@ -165,7 +136,7 @@ static void scene_file_generators_have_default_description(void **state) {
 /* Effects written as true take their defaults; false is off. */
 static void scene_file_effects_true_and_false(void **state) {
   (void)state;
-  const char *path = write_file("fx.json", "{\"meshes\": [{\"generator\": \"sphere:0\"}], \"effects\": {\"shadows\": "
+  const char *path = lt_test_write_file("fx.json", "{\"meshes\": [{\"generator\": \"sphere:0\"}], \"effects\": {\"shadows\": "
                                            "false, \"ao\": true, \"diffuse\": true, \"mirror\": false}}");
   lt_scene *scene = load_ok(path);
   lt_effects fx = lt_scene_effects(scene);
@@ -229,7 +200,7 @@ static void scene_file_errors_name_file_key_and_expectation(void **state) {
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
     char name[32];
     snprintf(name, sizeof name, "bad%zu.json", i);
-    const char *path = write_file(name, cases[i].json);
+    const char *path = lt_test_write_file(name, cases[i].json);
     lt_scene *scene = NULL;
     lt_status status = lt_scene_load(path, &scene);
     const char *message = lt_last_error();
@@ -253,5 +224,5 @@ int main(void) {
       cmocka_unit_test(scene_file_effects_true_and_false),
       cmocka_unit_test(scene_file_errors_name_file_key_and_expectation),
   };
-  return cmocka_run_group_tests(tests, make_temp_dir, remove_temp_dir);
+  return cmocka_run_group_tests(tests, lt_test_temp_dir_create, lt_test_temp_dir_remove);
 }

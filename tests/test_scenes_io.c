@@ -13,43 +13,7 @@
 #include <unistd.h>
 
 #include "lazytrace.h"
-
-#define MAX_FILES 64
-#define PATH_SIZE 512
-
-/* Every file a test writes lives in one temporary directory that the group teardown removes. */
-static char temp_dir[64];
-static char file_paths[MAX_FILES][PATH_SIZE];
-static int file_count;
-
-static int make_temp_dir(void **state) {
-  (void)state;
-  snprintf(temp_dir, sizeof temp_dir, "/tmp/lt_test_XXXXXX");
-  return mkdtemp(temp_dir) ? 0 : -1;
-}
-
-static int remove_temp_dir(void **state) {
-  (void)state;
-  for (int i = 0; i < file_count; i++) unlink(file_paths[i]);
-  return rmdir(temp_dir);
-}
-
-/* A path in the temporary directory, remembered for cleanup. */
-static const char *temp_path(const char *name) {
-  assert_true(file_count < MAX_FILES);
-  char *path = file_paths[file_count++];
-  snprintf(path, PATH_SIZE, "%s/%s", temp_dir, name);
-  return path;
-}
-
-static const char *write_file(const char *name, const char *text) {
-  const char *path = temp_path(name);
-  FILE *f = fopen(path, "wb");
-  assert_non_null(f);
-  assert_int_equal(fwrite(text, 1, strlen(text), f), strlen(text));
-  assert_int_equal(fclose(f), 0);
-  return path;
-}
+#include "tests/support.h"
 
 static lt_scene *load_ok(const char *path) {
   lt_scene *scene = NULL;
@@ -67,7 +31,7 @@ static const char *load_fails(const char *path, lt_status expected) {
 }
 
 static void assert_error_is(const char *message, const char *format, const char *path) {
-  char expected[PATH_SIZE + 128];
+  char expected[640];
   snprintf(expected, sizeof expected, format, path);
   assert_string_equal(message, expected);
 }
@@ -111,7 +75,7 @@ static void scenes_io_obj_round_trip_is_bit_identical(void **state) {
 
   lt_scene *scene = NULL;
   assert_int_equal(lt_scene_from_triangles(tris, N, &scene), LT_OK);
-  const char *path = temp_path("round_trip.obj");
+  const char *path = lt_test_temp_path("round_trip.obj");
   assert_int_equal(lt_scene_write_obj(scene, path), LT_OK);
   lt_scene_destroy(scene);
 
@@ -124,7 +88,7 @@ static void scenes_io_obj_round_trip_is_bit_identical(void **state) {
 
 static void scenes_io_obj_fans_quad_and_pentagon_from_first_vertex(void **state) {
   (void)state;
-  const char *path = write_file("fan.obj",
+  const char *path = lt_test_write_file("fan.obj",
                                 "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
                                 "v 0 0 1\nv 1 0 1\nv 2 1 1\nv 1 2 1\nv 0 1 1\n"
                                 "f 1 2 3 4\n"
@@ -142,7 +106,7 @@ static void scenes_io_obj_fans_quad_and_pentagon_from_first_vertex(void **state)
 
 static void scenes_io_obj_negative_indices_count_back_from_last_vertex(void **state) {
   (void)state;
-  const char *path = write_file("negative.obj",
+  const char *path = lt_test_write_file("negative.obj",
                                 "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
                                 "f -3 -2 -1\n"
                                 "v 5 5 5\n"
@@ -157,7 +121,7 @@ static void scenes_io_obj_negative_indices_count_back_from_last_vertex(void **st
 
 static void scenes_io_obj_reads_slash_forms(void **state) {
   (void)state;
-  const char *path = write_file("slashes.obj",
+  const char *path = lt_test_write_file("slashes.obj",
                                 "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
                                 "vt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\n"
                                 "f 1/1 2/2 3/3\n"
@@ -176,7 +140,7 @@ static void scenes_io_obj_reads_slash_forms(void **state) {
 
 static void scenes_io_obj_skips_other_statements_crlf_and_indentation(void **state) {
   (void)state;
-  const char *path = write_file("noise.obj",
+  const char *path = lt_test_write_file("noise.obj",
                                 "# a comment\r\n"
                                 "mtllib scene.mtl\r\n"
                                 "\r\n"
@@ -198,7 +162,7 @@ static void scenes_io_obj_skips_other_statements_crlf_and_indentation(void **sta
 static void scenes_io_obj_reads_lines_of_any_length(void **state) {
   (void)state;
   enum { N = 5000 };
-  const char *path = temp_path("long.obj");
+  const char *path = lt_test_temp_path("long.obj");
   FILE *f = fopen(path, "w");
   assert_non_null(f);
   for (int i = 0; i < N; i++) fprintf(f, "v %d %d 0\n", i, i * i % 7);
@@ -216,52 +180,52 @@ static void scenes_io_obj_reads_lines_of_any_length(void **state) {
 
 static void scenes_io_obj_malformed_face_names_file_and_line(void **state) {
   (void)state;
-  const char *path = write_file("bad_face.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 oops 3\n");
+  const char *path = lt_test_write_file("bad_face.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 oops 3\n");
   assert_error_is(load_fails(path, LT_ERROR_PARSE), "%s:5: face vertex 'oops' is not an index", path);
 
-  path = write_file("bad_number.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3.5\n");
+  path = lt_test_write_file("bad_number.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3.5\n");
   assert_error_is(load_fails(path, LT_ERROR_PARSE), "%s:4: face vertex '3.5' is not an index", path);
 }
 
 static void scenes_io_obj_face_with_two_vertices_fails(void **state) {
   (void)state;
-  const char *path = write_file("short_face.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n");
+  const char *path = lt_test_write_file("short_face.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n");
   assert_error_is(load_fails(path, LT_ERROR_PARSE), "%s:4: face with fewer than 3 vertices", path);
 }
 
 static void scenes_io_obj_vertex_with_too_few_coordinates_fails(void **state) {
   (void)state;
-  const char *path = write_file("short_vertex.obj", "v 0 0 0\nv 1 0 0\nv 0 1\nf 1 2 3\n");
+  const char *path = lt_test_write_file("short_vertex.obj", "v 0 0 0\nv 1 0 0\nv 0 1\nf 1 2 3\n");
   assert_error_is(load_fails(path, LT_ERROR_PARSE), "%s:3: vertex needs 3 coordinates", path);
 
-  path = write_file("garbage_vertex.obj", "v 0 0 0\nv 1.0x 0 0\n");
+  path = lt_test_write_file("garbage_vertex.obj", "v 0 0 0\nv 1.0x 0 0\n");
   assert_error_is(load_fails(path, LT_ERROR_PARSE), "%s:2: vertex coordinate '1.0x' is not a number", path);
 }
 
 static void scenes_io_obj_index_out_of_range_fails(void **state) {
   (void)state;
-  const char *path = write_file("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n");
+  const char *path = lt_test_write_file("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n");
   assert_error_is(load_fails(path, LT_ERROR_PARSE), "%s:4: face index 4 out of range (3 vertices so far)", path);
 
-  path = write_file("range_negative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n");
+  path = lt_test_write_file("range_negative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n");
   assert_error_is(load_fails(path, LT_ERROR_PARSE), "%s:4: face index -4 out of range (3 vertices so far)", path);
 
   /* Faces may only use vertices defined above them. */
-  path = write_file("forward.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\nv 0 1 0\n");
+  path = lt_test_write_file("forward.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\nv 0 1 0\n");
   assert_error_is(load_fails(path, LT_ERROR_PARSE), "%s:3: face index 3 out of range (2 vertices so far)", path);
 }
 
 static void scenes_io_missing_file_is_io_error(void **state) {
   (void)state;
-  const char *obj = temp_path("missing.obj");
+  const char *obj = lt_test_temp_path("missing.obj");
   assert_error_is(load_fails(obj, LT_ERROR_IO), "%s: cannot open: No such file or directory", obj);
-  const char *ply = temp_path("missing.ply");
+  const char *ply = lt_test_temp_path("missing.ply");
   assert_error_is(load_fails(ply, LT_ERROR_IO), "%s: cannot open: No such file or directory", ply);
 }
 
 static void scenes_io_obj_nan_vertex_skips_and_counts_triangle(void **state) {
   (void)state;
-  const char *path = write_file("nan.obj",
+  const char *path = lt_test_write_file("nan.obj",
                                 "v 0 0 0\nv 1 0 0\nv 0 1 0\nv nan 0 0\nv 0 inf 0\n"
                                 "f 1 2 3\nf 1 2 4\nf 5 1 2\nf 3 2 1\n");
   const float v[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
@@ -275,7 +239,7 @@ static void scenes_io_obj_nan_vertex_skips_and_counts_triangle(void **state) {
 
 static void scenes_io_ply_loads_through_assimp(void **state) {
   (void)state;
-  const char *path = write_file("tiny.ply",
+  const char *path = lt_test_write_file("tiny.ply",
                                 "ply\n"
                                 "format ascii 1.0\n"
                                 "element vertex 5\n"
@@ -297,7 +261,7 @@ static void scenes_io_ply_loads_through_assimp(void **state) {
 
 static void scenes_io_assimp_garbage_is_parse_error(void **state) {
   (void)state;
-  const char *path = write_file("garbage.ply", "ply\nformat ascii 1.0\nelement vertex nonsense\nend_header\n");
+  const char *path = lt_test_write_file("garbage.ply", "ply\nformat ascii 1.0\nelement vertex nonsense\nend_header\n");
   const char *message = load_fails(path, LT_ERROR_PARSE);
   assert_true(strncmp(message, path, strlen(path)) == 0);
   assert_true(strlen(message) > strlen(path) + 2);
@@ -312,7 +276,7 @@ static void scenes_io_generators_round_trip_through_obj(void **state) {
     lt_scene *generated = load_ok(specs[i]);
     char name[32];
     snprintf(name, sizeof name, "gen%zu.obj", i);
-    const char *path = temp_path(name);
+    const char *path = lt_test_temp_path(name);
     assert_int_equal(lt_scene_write_obj(generated, path), LT_OK);
     lt_scene *loaded = load_ok(path);
     size_t n = lt_scene_triangle_count(generated);
@@ -352,5 +316,5 @@ int main(void) {
       cmocka_unit_test(scenes_io_generators_round_trip_through_obj),
       cmocka_unit_test(scenes_io_generators_are_deterministic),
   };
-  return cmocka_run_group_tests(tests, make_temp_dir, remove_temp_dir);
+  return cmocka_run_group_tests(tests, lt_test_temp_dir_create, lt_test_temp_dir_remove);
 }
