@@ -48,6 +48,7 @@ struct lt_stats {
   char structure[64];
   char build[64];
   char device[192];
+  char intersect[16];
   double value[LT_STAT_COUNT];
 };
 
@@ -55,7 +56,7 @@ struct lt_stats {
 void lt__stats_add(lt_stats *stats, lt_stat_id id, double value);
 /* Overwrites a value; no-op on a NULL stats. */
 void lt__stats_put(lt_stats *stats, lt_stat_id id, double value);
-/* Sets "structure", "build" or "device". */
+/* Sets "structure", "build", "device" or "intersect". */
 void lt__stats_text(lt_stats *stats, const char *key, const char *text);
 
 #endif
