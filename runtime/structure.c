@@ -193,6 +193,26 @@ lt_status lt_structure_create(lt_context *ctx, const lt_scene *scene, const lt_s
 
 lt__ondemand *lt__structure_ondemand(lt_structure *s) { return s->od_live ? &s->od : NULL; }
 
+lt_status lt__structure_from_bvh(lt_context *ctx, const lt_scene *scene, lt__bvh *bvh, lt_structure **out) {
+  if (!ctx || !scene || !bvh || !out) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt__structure_from_bvh: NULL argument");
+  lt_structure *s = calloc(1, sizeof *s);
+  if (!s) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a structure");
+  s->ctx = ctx;
+  s->config = (lt_structure_config){LT_STRUCTURE_BVH, LT_BUILD_FULL, 16, 32, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
+  s->scene = scene;
+  s->host_built = 1;
+  s->bvh = *bvh;
+  memset(bvh, 0, sizeof *bvh);
+  lt_status status = ctx->kind == LT_DEVICE_OPENCL ? lt__opencl_program(ctx) : LT_OK;
+  if (!status && ctx->kind == LT_DEVICE_OPENCL) status = upload(s);
+  if (status) {
+    lt_structure_destroy(s);
+    return status;
+  }
+  *out = s;
+  return LT_OK;
+}
+
 void lt__structure_set_flags(lt_structure *s, int flags) { s->flags |= flags & ~LT_QUERY_FLAG_ANY; }
 
 int lt__structure_flags(const lt_structure *s, int query) {
