@@ -47,6 +47,9 @@ static int apply(lt_cli *cli, const char *option, const char *value) {
     lt_status status = lt_build_mode_parse(value, &cli->structure.build);
     if (status) return fprintf(stderr, "lazytrace: %s\n", lt_last_error()), 1;
     cli->build_given = 1;
+  } else if (strcmp(option, "--intersect") == 0) {
+    lt_status status = lt_intersect_kind_parse(value, &cli->structure.intersect);
+    if (status) return fprintf(stderr, "lazytrace: %s\n", lt_last_error()), 1;
   } else if (strcmp(option, "--size") == 0) {
     int w = 0, h = 0, used = 0;
     if (sscanf(value, "%dx%d%n", &w, &h, &used) != 2 || value[used] || w <= 0 || h <= 0 || w > 16384 || h > 16384)
@@ -80,7 +83,7 @@ int lt_cli_parse(lt_cli *cli, int argc, char **argv) {
   cli->command = argv[1];
   cli->width = cli->height = 1024;
   cli->agents = 100, cli->rays_per_agent = 8, cli->frames = 20, cli->seed = 1;
-  cli->structure = (lt_structure_config){LT_STRUCTURE_BVH, LT_BUILD_SPECULATIVE, 16, 32, 1.0f, 0};
+  cli->structure = (lt_structure_config){LT_STRUCTURE_BVH, LT_BUILD_SPECULATIVE, 16, 32, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
   for (int i = 2; i < argc; i++) {
     const char *arg = argv[i];
     if (strcmp(arg, "--any") == 0) {

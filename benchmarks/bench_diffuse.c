@@ -36,7 +36,7 @@ static int run_method(lt_context *ctx, const lt_scene *scene, int method, const 
                             method == REQUESTED     ? LT_BUILD_REQUESTED
                             : method == SPECULATIVE ? LT_BUILD_SPECULATIVE
                                                     : LT_BUILD_FULL,
-                            16, 32, 1.0f, 0};
+                            16, 32, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
   lt_stats *stats;
   lt_structure *s = NULL;
   lt_stats_create(&stats);

@@ -65,7 +65,7 @@ static int run_method(const lt_scene *scene, int method, const batch *batches, i
                                 method == REQUESTED     ? LT_BUILD_REQUESTED
                                 : method == SPECULATIVE ? LT_BUILD_SPECULATIVE
                                                         : LT_BUILD_FULL,
-                                16, 32, 1.0f, 0};
+                                16, 32, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
   lt_stats *stats;
   lt_structure *s;
   lt_stats_create(&stats);
@@ -157,7 +157,7 @@ static int table(int argc, char **argv, int runs, int size, int ao, FILE *csv) {
       csv_row(csv, argv[i], camera, "primary", f, runs);
 
       lt_structure *full;
-      lt_structure_config fc = {LT_STRUCTURE_BVH, LT_BUILD_FULL, 16, 32, 1.0f, 0};
+      lt_structure_config fc = {LT_STRUCTURE_BVH, LT_BUILD_FULL, 16, 32, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
       float lo[3], hi[3];
       lt_scene_bounds(scene, lo, hi);
       float diag = sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));

@@ -175,6 +175,11 @@ typedef enum {
 
 typedef enum { LT_BUILD_FULL = 0, LT_BUILD_REQUESTED, LT_BUILD_SPECULATIVE } lt_build_mode;
 
+/* The ray-triangle test. Watertight (Woop, Benthin and Wald 2013) never lets a ray slip
+ * between triangles that share an edge or a vertex; fast (Moller-Trumbore 1997) does fewer
+ * operations and may. Both give the same hits on every structure, mode and backend. */
+typedef enum { LT_INTERSECT_WATERTIGHT = 0, LT_INTERSECT_FAST } lt_intersect_kind;
+
 typedef struct lt_structure_config {
   lt_structure_kind kind; /* default BVH */
   lt_build_mode build;    /* default SPECULATIVE (the zero value is FULL: say it explicitly) */
@@ -183,6 +188,7 @@ typedef struct lt_structure_config {
   float traversal_cost;   /* SAH cost of one node visit relative to one intersection; default 1 */
   int pool_capacity;      /* task slots to start with; default triangles / 8 (4096 at least).
                              A full pool is retried from scratch with twice the slots. */
+  lt_intersect_kind intersect; /* default (0) WATERTIGHT */
 } lt_structure_config;
 
 /* Parses "bvh", "full", ...; LT_ERROR_INVALID_ARGUMENT for an unknown name and
@@ -191,6 +197,9 @@ lt_status lt_structure_kind_parse(const char *name, lt_structure_kind *out);
 lt_status lt_build_mode_parse(const char *name, lt_build_mode *out);
 const char *lt_structure_kind_name(lt_structure_kind kind);
 const char *lt_build_mode_name(lt_build_mode mode);
+/* "watertight" or "fast". */
+lt_status lt_intersect_kind_parse(const char *name, lt_intersect_kind *out);
+const char *lt_intersect_kind_name(lt_intersect_kind kind);
 
 typedef struct lt_structure lt_structure;
 
@@ -212,7 +221,7 @@ lt_status lt_structure_trace(lt_structure *structure, const lt_ray *rays, size_t
                              int query, lt_hit *hits, lt_stats *stats);
 
 /* The brute-force reference: every ray against every triangle, in C on the host, with the
- * same intersection test and tie rule as the structures. */
+ * same (watertight) intersection test and tie rule as the structures. */
 lt_status lt_reference_trace(const lt_scene *scene, const lt_ray *rays, size_t count, int query,
                              lt_hit *hits);
 

@@ -9,7 +9,7 @@
 typedef struct lt__native_trace_args {
   const float *rays; /* 8 floats a ray */
   int count;
-  int any_hit;
+  int flags;         /* query flags (LT_QUERY_FLAG_*: any hit, triangle and slab tests) */
   const lt_bvh_node *nodes;
   const lt_tri *tris;
   lt_hit_record *hits;

@@ -16,7 +16,7 @@ void lt__native_trace_kernel(void *arg) {
     if (begin >= (lt_u32)a->count) break;
     lt_u32 end = begin + CHUNK < (lt_u32)a->count ? begin + CHUNK : (lt_u32)a->count;
     for (lt_u32 i = begin; i < end; i++) {
-      if (lt_trace_one(a->rays, (int)i, a->any_hit, a->nodes, a->tris, a->hits, &counters) != 0)
+      if (lt_trace_one(a->rays, (int)i, a->flags, a->nodes, a->tris, a->hits, &counters) != 0)
         __atomic_store_n(&a->error, 1, __ATOMIC_RELAXED);
     }
 

@@ -2,14 +2,14 @@
  * with the native backend (kernels/native_trace.c). */
 #include "kernels/trace_body.h"
 
-__kernel void lt_trace_bvh(__global const float *rays, int count, int any_hit,
+__kernel void lt_trace_bvh(__global const float *rays, int count, int flags,
                            __global const lt_bvh_node *nodes, __global const lt_tri *tris,
                            __global lt_hit_record *hits, __global lt_u32 *counters,
                            __global int *error) {
   lt_trace_counters local_counters = {0, 0};
   int i = lt_global_id();
   if (i < count) {
-    if (lt_trace_one(rays, i, any_hit, nodes, tris, hits, &local_counters) != 0) atomic_xchg(error, 1);
+    if (lt_trace_one(rays, i, flags, nodes, tris, hits, &local_counters) != 0) atomic_xchg(error, 1);
   }
 
   /* One counter slot per work-group keeps the sums far from 32-bit overflow. */

@@ -63,8 +63,12 @@ void lt__stats_text(lt_stats *stats, const char *key, const char *text) {
   if (!stats) return;
   char *slot = strcmp(key, "structure") == 0 ? stats->structure
                : strcmp(key, "build") == 0   ? stats->build
+               : strcmp(key, "intersect") == 0 ? stats->intersect
                                               : stats->device;
-  snprintf(slot, sizeof stats->device, "%s", text);
+  size_t size = slot == stats->device ? sizeof stats->device
+                : slot == stats->intersect ? sizeof stats->intersect
+                                           : sizeof stats->structure;
+  snprintf(slot, size, "%s", text);
 }
 
 /* Writes a JSON string with the characters JSON requires escaped. */
@@ -132,6 +136,9 @@ lt_status lt_stats_write_json(const lt_stats *stats, FILE *out) {
   write_string(out, stats->build);
   fputs(",\n  \"device\": ", out);
   write_string(out, stats->device);
+  fputs(",\n  \"intersect\": ", out);
+  if (stats->intersect[0]) write_string(out, stats->intersect);
+  else fputs("null", out);
 
   /* Top-level numbers first, then each group of dotted keys as one nested object, in the
    * order the list gives them. */

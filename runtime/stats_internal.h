@@ -73,6 +73,7 @@ struct lt_stats {
   char structure[64];
   char build[64];
   char device[192];
+  char intersect[16];
   double value[LT_STAT_COUNT];
   int batch_count;   /* records kept */
   long batches_more; /* batches past LT_STATS_MAX_BATCHES: counted in the totals, not recorded */
@@ -85,7 +86,7 @@ void lt__stats_add(lt_stats *stats, lt_stat_id id, double value);
 void lt__stats_put(lt_stats *stats, lt_stat_id id, double value);
 /* Records one batch of a render (kept up to LT_STATS_MAX_BATCHES, then only counted). */
 void lt__stats_batch(lt_stats *stats, const char *effect, double rays, double ms, double nodes_built);
-/* Sets "structure", "build" or "device". */
+/* Sets "structure", "build", "device" or "intersect". */
 void lt__stats_text(lt_stats *stats, const char *key, const char *text);
 
 #endif

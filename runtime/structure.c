@@ -9,7 +9,9 @@
 #include "runtime/error.h"
 #include "runtime/stats_internal.h"
 #include "runtime/ondemand_internal.h"
+#include "runtime/structure_internal.h"
 #include "scenes/scene_internal.h"
+#include "traversal/ray.h"
 
 struct lt_structure {
   lt_context *ctx;
@@ -27,12 +29,16 @@ struct lt_structure {
   lt__ondemand od;
   int od_live;
   int pool_capacity;
+
+  /* Query flags every trace adds: the triangle test, and internal knobs (structure_internal.h). */
+  int flags;
 };
 
 static const char *const structure_names[] = {"bvh", "lbvh"};
 /* Names a user may give that later issues implement; each is refused with a clear message. */
 static const char *const planned_structures[] = {"kdtree", "irgrid", "grid", "qbvh", "escape-bvh", NULL};
 static const char *const build_names[] = {"full", "requested", "speculative"};
+static const char *const intersect_names[] = {"watertight", "fast"};
 
 const char *lt_structure_kind_name(lt_structure_kind kind) {
   return kind < LT_STRUCTURE_COUNT ? structure_names[kind] : "unknown";
@@ -46,6 +52,16 @@ lt_status lt_structure_kind_parse(const char *name, lt_structure_kind *out) {
     if (strcmp(name, planned_structures[i]) == 0)
       return lt__fail(LT_ERROR_UNSUPPORTED, "--structure %s is not implemented yet (available: bvh, lbvh)", name);
   return lt__fail(LT_ERROR_INVALID_ARGUMENT, "unknown structure '%s' (known: bvh, lbvh; planned: kdtree, irgrid, grid, qbvh)", name);
+}
+
+const char *lt_intersect_kind_name(lt_intersect_kind kind) {
+  return kind <= LT_INTERSECT_FAST ? intersect_names[kind] : "unknown";
+}
+
+lt_status lt_intersect_kind_parse(const char *name, lt_intersect_kind *out) {
+  for (int i = 0; i <= LT_INTERSECT_FAST; i++)
+    if (strcmp(name, intersect_names[i]) == 0) return *out = (lt_intersect_kind)i, LT_OK;
+  return lt__fail(LT_ERROR_INVALID_ARGUMENT, "unknown intersection test '%s' (known: watertight, fast)", name);
 }
 
 lt_status lt_build_mode_parse(const char *name, lt_build_mode *out) {
@@ -102,6 +118,7 @@ static void put_build_stats(lt_structure *s, lt_stats *stats) {
   lt__stats_text(stats, "structure", lt_structure_kind_name(s->config.kind));
   lt__stats_text(stats, "build", lt_build_mode_name(s->config.build));
   lt__stats_text(stats, "device", s->ctx->name);
+  lt__stats_text(stats, "intersect", lt_intersect_kind_name(s->config.intersect));
   lt__stats_put(stats, LT_STAT_TRIANGLES, (double)s->scene->count);
   lt__stats_put(stats, LT_STAT_SKIPPED_TRIANGLES, (double)s->scene->skipped);
   lt__stats_put(stats, LT_STAT_COMPILE_MS, s->ctx->compile_ms);
@@ -131,10 +148,12 @@ static void put_build_stats(lt_structure *s, lt_stats *stats) {
 
 lt_status lt_structure_create(lt_context *ctx, const lt_scene *scene, const lt_structure_config *config,
                               lt_stats *stats, lt_structure **out) {
-  lt_structure_config defaults = {LT_STRUCTURE_BVH, LT_BUILD_SPECULATIVE, 16, 32, 1.0f, 0};
+  lt_structure_config defaults = {LT_STRUCTURE_BVH, LT_BUILD_SPECULATIVE, 16, 32, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
   if (!ctx || !scene || !out) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_structure_create: NULL argument");
   if (!config) config = &defaults;
   if (config->kind >= LT_STRUCTURE_COUNT) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "unknown structure kind %d", config->kind);
+  if ((unsigned)config->intersect > LT_INTERSECT_FAST)
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT, "unknown intersection test %d", (int)config->intersect);
   if (config->kind == LT_STRUCTURE_LBVH && config->build != LT_BUILD_FULL)
     return lt__fail(LT_ERROR_UNSUPPORTED, "the LBVH is built in full only (--build full)");
   if (scene->count == 0) return lt__fail(LT_ERROR_EMPTY_SCENE, "the scene has no triangles");
@@ -145,6 +164,7 @@ lt_status lt_structure_create(lt_context *ctx, const lt_scene *scene, const lt_s
   s->config = *config;
   s->scene = scene;
   s->pool_capacity = config->pool_capacity > 0 ? config->pool_capacity : initial_pool_capacity(scene->count);
+  s->flags = config->intersect == LT_INTERSECT_FAST ? LT_QUERY_FLAG_FAST_TRIANGLES : 0;
   s->sah = lt__sah_config_default();
   if (config->max_leaf_size > 0) s->sah.max_leaf_size = config->max_leaf_size;
   if (config->sah_bins > 0) s->sah.bins = config->sah_bins;
@@ -173,6 +193,32 @@ lt_status lt_structure_create(lt_context *ctx, const lt_scene *scene, const lt_s
 
 lt__ondemand *lt__structure_ondemand(lt_structure *s) { return s->od_live ? &s->od : NULL; }
 
+lt_status lt__structure_from_bvh(lt_context *ctx, const lt_scene *scene, lt__bvh *bvh, lt_structure **out) {
+  if (!ctx || !scene || !bvh || !out) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt__structure_from_bvh: NULL argument");
+  lt_structure *s = calloc(1, sizeof *s);
+  if (!s) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a structure");
+  s->ctx = ctx;
+  s->config = (lt_structure_config){LT_STRUCTURE_BVH, LT_BUILD_FULL, 16, 32, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
+  s->scene = scene;
+  s->host_built = 1;
+  s->bvh = *bvh;
+  memset(bvh, 0, sizeof *bvh);
+  lt_status status = ctx->kind == LT_DEVICE_OPENCL ? lt__opencl_program(ctx) : LT_OK;
+  if (!status && ctx->kind == LT_DEVICE_OPENCL) status = upload(s);
+  if (status) {
+    lt_structure_destroy(s);
+    return status;
+  }
+  *out = s;
+  return LT_OK;
+}
+
+void lt__structure_set_flags(lt_structure *s, int flags) { s->flags |= flags & ~LT_QUERY_FLAG_ANY; }
+
+int lt__structure_flags(const lt_structure *s, int query) {
+  return s->flags | (query == LT_QUERY_ANY ? LT_QUERY_FLAG_ANY : 0);
+}
+
 void lt_structure_destroy(lt_structure *s) {
   if (!s) return;
   if (s->nodes) clReleaseMemObject(s->nodes);
@@ -183,7 +229,7 @@ void lt_structure_destroy(lt_structure *s) {
 }
 
 /* One launch of the trace kernel over all rays on the OpenCL device. */
-static lt_status trace_opencl(lt_structure *s, const lt_ray *rays, int count, int any, lt_hit *hits,
+static lt_status trace_opencl(lt_structure *s, const lt_ray *rays, int count, int flags, lt_hit *hits,
                               uint64_t *steps, uint64_t *tests) {
   lt_context *ctx = s->ctx;
   size_t local = (size_t)ctx->local_size;
@@ -207,7 +253,7 @@ static lt_status trace_opencl(lt_structure *s, const lt_ray *rays, int count, in
   cl_kernel k = ctx->trace_kernel;
   err = clSetKernelArg(k, 0, sizeof ray_buf, &ray_buf);
   err |= clSetKernelArg(k, 1, sizeof count, &count);
-  err |= clSetKernelArg(k, 2, sizeof any, &any);
+  err |= clSetKernelArg(k, 2, sizeof flags, &flags);
   err |= clSetKernelArg(k, 3, sizeof s->nodes, &s->nodes);
   err |= clSetKernelArg(k, 4, sizeof s->tris, &s->tris);
   err |= clSetKernelArg(k, 5, sizeof hit_buf, &hit_buf);
@@ -233,9 +279,9 @@ done:
   return status;
 }
 
-static lt_status trace_native(lt_structure *s, const lt_ray *rays, int count, int any, lt_hit *hits,
+static lt_status trace_native(lt_structure *s, const lt_ray *rays, int count, int flags, lt_hit *hits,
                               uint64_t *steps, uint64_t *tests) {
-  lt__native_trace_args args = {(const float *)rays, count, any, s->bvh.nodes, s->bvh.tris,
+  lt__native_trace_args args = {(const float *)rays, count, flags, s->bvh.nodes, s->bvh.tris,
                                 (lt_hit_record *)hits, 0, 0, 0, 0};
   lt_status status = lt__native_run(s->ctx->work_groups, lt__native_trace_kernel, &args);
   *steps += args.traversal_steps, *tests += args.intersections;
@@ -246,16 +292,17 @@ static lt_status trace_native(lt_structure *s, const lt_ray *rays, int count, in
 
 /* On demand: one launch builds what the rays need while tracing them (time to image); with
  * statistics asked for, a second launch traces the same rays on the tree as built, which is
- * the trace time, and build time is the difference (the paper's convention). */
-static lt_status trace_ondemand(lt_structure *s, const lt_ray *rays, int count, int any, lt_hit *hits,
+ * the trace time, and build time is the difference (the paper's convention). The query flags
+ * travel in the launch's any-hit argument (traversal/ray.h). */
+static lt_status trace_ondemand(lt_structure *s, const lt_ray *rays, int count, int flags, lt_hit *hits,
                                 lt_stats *stats) {
   int speculate = s->config.build == LT_BUILD_SPECULATIVE;
   double start = lt_now_ms();
-  lt_status status = lt__ondemand_launch(&s->od, rays, count, any, hits, speculate, stats);
+  lt_status status = lt__ondemand_launch(&s->od, rays, count, flags, hits, speculate, stats);
   while (status == LT_ERROR_CAPACITY && s->pool_capacity < MAX_POOL) {
     status = with_retry(s, stats, status);
     start = lt_now_ms();
-    if (!status) status = lt__ondemand_launch(&s->od, rays, count, any, hits, speculate, stats);
+    if (!status) status = lt__ondemand_launch(&s->od, rays, count, flags, hits, speculate, stats);
   }
   double total = lt_now_ms() - start;
   if (status || !stats) return status;
@@ -265,7 +312,7 @@ static lt_status trace_ondemand(lt_structure *s, const lt_ray *rays, int count, 
     lt_stats *again;
     if ((status = lt_stats_create(&again))) return status;
     double retrace_start = lt_now_ms();
-    status = lt__ondemand_launch(&s->od, rays, count, any, hits, 0, again);
+    status = lt__ondemand_launch(&s->od, rays, count, flags, hits, 0, again);
     double trace = lt_now_ms() - retrace_start;
     lt_stats_destroy(again);
     lt__stats_add(stats, LT_STAT_TRACE_MS, trace);
@@ -287,15 +334,15 @@ lt_status lt_structure_trace(lt_structure *s, const lt_ray *rays, size_t count, 
   if (s->host_built) {
     double start = lt_now_ms();
     status = s->ctx->kind == LT_DEVICE_OPENCL
-                 ? trace_opencl(s, rays, (int)count, query == LT_QUERY_ANY, hits, &steps, &tests)
-                 : trace_native(s, rays, (int)count, query == LT_QUERY_ANY, hits, &steps, &tests);
+                 ? trace_opencl(s, rays, (int)count, lt__structure_flags(s, query), hits, &steps, &tests)
+                 : trace_native(s, rays, (int)count, lt__structure_flags(s, query), hits, &steps, &tests);
     if (!status) {
       lt__stats_add(stats, LT_STAT_TRACE_MS, lt_now_ms() - start);
       lt__stats_add(stats, LT_STAT_TRAVERSAL_STEPS, (double)steps);
       lt__stats_add(stats, LT_STAT_INTERSECTIONS, (double)tests);
     }
   } else {
-    status = trace_ondemand(s, rays, (int)count, query == LT_QUERY_ANY, hits, stats);
+    status = trace_ondemand(s, rays, (int)count, lt__structure_flags(s, query), hits, stats);
   }
   if (!status && stats) {
     lt__stats_add(stats, LT_STAT_RAYS, (double)count);

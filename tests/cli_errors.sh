@@ -38,6 +38,7 @@ expect_error "unknown option" "unknown option '--fast'" render sphere:2 --fast 1
 expect_error "option without value" "needs a value" render sphere:2 --size
 expect_error "bad size" "WIDTHxHEIGHT" render sphere:2 --size 10by10
 expect_error "unknown structure" "unknown structure 'octree'" render sphere:2 --structure octree
+expect_error "unknown intersection test" "unknown intersection test .exact." render sphere:2 --intersect exact
 expect_error "planned structure refused" "not implemented yet" render sphere:2 --structure kdtree
 expect_error "bad build mode" "unknown build mode 'lazy'" render sphere:2 --build lazy
 expect_error "LBVH is built in full only" "full only" render sphere:2 --structure lbvh --build requested --size 8x8 -o "$T/x.png"

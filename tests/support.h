@@ -20,13 +20,4 @@ size_t lt_test_count_mismatches(const char *what, const lt_hit *a, const lt_hit 
 /* Number of rays on which a and b disagree about being occluded. */
 size_t lt_test_count_occlusion_mismatches(const lt_hit *a, const lt_hit *b, size_t n);
 
-/* A temporary directory for a test group's files (cmocka group setup and teardown): the
- * teardown removes the files made through lt_test_temp_path and the directory. */
-int lt_test_temp_dir_create(void **state);
-int lt_test_temp_dir_remove(void **state);
-/* A path of that name in the directory, remembered for removal. */
-const char *lt_test_temp_path(const char *name);
-/* Writes text to a file of that name in the directory; returns its path. */
-const char *lt_test_write_file(const char *name, const char *text);
-
 #endif

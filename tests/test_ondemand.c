@@ -37,7 +37,7 @@ static int opencl_available(void) {
 }
 
 static lt_structure_config mode_config(lt_build_mode mode) {
-  lt_structure_config c = {LT_STRUCTURE_BVH, mode, 16, 32, 1.0f, 0};
+  lt_structure_config c = {LT_STRUCTURE_BVH, mode, 16, 32, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
   return c;
 }
 

@@ -14,6 +14,7 @@
 
 #include "lazytrace.h"
 #include "tests/support.h"
+#include "tests/temp_files.h"
 
 static lt_scene *load_ok(const char *path) {
   lt_scene *scene = NULL;

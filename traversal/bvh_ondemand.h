@@ -54,9 +54,13 @@ LT_DEVICE void lt_od_start(lt_od_ray *q, LT_GLOBAL const float *ray) {
 
 LT_DEVICE lt_i32 lt_od_pop(lt_od_ray *q) { return q->sp > 0 ? q->stack[--q->sp] : -1; }
 
-/* Advances a ray; returns 1 when it is done, 0 when it waits for an unbuilt node. */
-LT_DEVICE int lt_od_trace(const lt_bvh_build *b, lt_od_ray *q, int any_hit, lt_trace_counters *c) {
+/* Advances a ray; returns 1 when it is done, 0 when it waits for an unbuilt node. flags are
+ * the query flags (LT_QUERY_FLAG_*: any hit, the triangle test, the slab test), which the
+ * persistent kernel passes in its any-hit argument. */
+LT_DEVICE int lt_od_trace(const lt_bvh_build *b, lt_od_ray *q, int flags, lt_trace_counters *c) {
   LT_GLOBAL const lt_bvh_node *nodes = b->nodes;
+  int any_hit = flags & LT_QUERY_FLAG_ANY;
+  q->r.flags = flags;
   for (;;) {
     if (any_hit && q->hit.prim >= 0) return 1;
 

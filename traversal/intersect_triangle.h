@@ -1,53 +1,14 @@
-/* Watertight ray-triangle intersection: Woop, Benthin and Wald, "Watertight Ray/Triangle
- * Intersection", JCGT 2(1), 2013. The ray is sheared so it runs along +z from the origin; the
- * edge functions of the projected triangle then decide the hit, and an edge function that is
- * exactly 0 is recomputed in double so that rays through shared edges and vertices can never
- * slip between two triangles. */
+/* Ray-triangle intersection. The default is the watertight test of Woop, Benthin and Wald,
+ * "Watertight Ray/Triangle Intersection", JCGT 2(1), 2013: the ray is sheared so that it runs
+ * along +z from the origin, the edge functions of the projected triangle decide the hit, and
+ * an edge function that is exactly 0 is recomputed in double, so that rays through shared edges
+ * and vertices can never slip between two triangles. The fast option is the test of Moller and
+ * Trumbore, "Fast, Minimum Storage Ray/Triangle Intersection", JGT 2(1), 1997: fewer
+ * operations, but a ray through an edge or a vertex may miss every triangle around it. */
 #ifndef LT_INTERSECT_TRIANGLE_H
 #define LT_INTERSECT_TRIANGLE_H
 
-#include "kernels/shared_types.h"
-
-/* A ray prepared for the watertight test and the slab test. */
-typedef struct lt_ray_setup {
-  float org[3];
-  float dir[3];
-  float inv_dir[3]; /* 1/dir; unused on an axis whose direction component is 0 */
-  float tmin, tmax;
-  int kx, ky, kz;   /* axes permuted so that kz has the largest |dir| */
-  float sx, sy, sz; /* shear constants */
-  int valid;        /* 0 for NaN or infinite components, a zero direction or tmin > tmax */
-} lt_ray_setup;
-
-LT_DEVICE lt_ray_setup lt_ray_prepare(float ox, float oy, float oz, float tmin, float dx,
-                                      float dy, float dz, float tmax) {
-  lt_ray_setup r;
-  r.org[0] = ox, r.org[1] = oy, r.org[2] = oz;
-  r.dir[0] = dx, r.dir[1] = dy, r.dir[2] = dz;
-  r.tmin = tmin, r.tmax = tmax;
-
-  /* Reject what has no defined answer; tmax may be +infinity, nothing else may be non-finite. */
-  r.valid = lt_isfinite(ox) && lt_isfinite(oy) && lt_isfinite(oz) && lt_isfinite(dx) &&
-            lt_isfinite(dy) && lt_isfinite(dz) && lt_isfinite(tmin) && !isnan(tmax) &&
-            tmin <= tmax && (dx != 0.0f || dy != 0.0f || dz != 0.0f);
-  for (int k = 0; k < 3; k++) r.inv_dir[k] = r.dir[k] != 0.0f ? 1.0f / r.dir[k] : 0.0f;
-
-  /* kz is the dimension where |dir| is largest; swapping kx and ky keeps the winding. */
-  float ax = fabs(dx), ay = fabs(dy), az = fabs(dz);
-  r.kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
-  r.kx = r.kz == 2 ? 0 : r.kz + 1;
-  r.ky = r.kx == 2 ? 0 : r.kx + 1;
-  if (r.dir[r.kz] < 0.0f) {
-    int swap = r.kx;
-    r.kx = r.ky;
-    r.ky = swap;
-  }
-  float dkz = r.valid ? r.dir[r.kz] : 1.0f;
-  r.sx = r.dir[r.kx] / dkz;
-  r.sy = r.dir[r.ky] / dkz;
-  r.sz = 1.0f / dkz;
-  return r;
-}
+#include "traversal/ray.h"
 
 /* Whether a hit at (t, prim) beats the best so far: closer, or as close with a lower triangle
  * number, so that every structure breaks ties the same way as the brute-force reference. */
@@ -55,9 +16,43 @@ LT_DEVICE int lt_hit_better(float t, int prim, float best_t, int best_prim) {
   return best_prim < 0 || t < best_t || (t == best_t && prim < best_prim);
 }
 
-/* Tests the triangle (v0, v1, v2) numbered prim; on a better hit in [tmin, tmax] updates hit. */
-LT_DEVICE int lt_intersect_triangle(const lt_ray_setup *r, const float *v0, const float *v1,
-                                    const float *v2, int prim, lt_hit_record *hit) {
+/* The hit distance, kept inside the interval where the ray's line crosses the triangle's own
+ * bounding box; NaN when the line misses that box.
+ *
+ * Why: the watertight test computes t as a weighted mean of the vertices' depths, and for a
+ * ray that grazes the triangle's plane the weights are poorly conditioned, so t can land
+ * outside the stretch of the ray that lies in the triangle's box. A node holding the triangle
+ * has a wider slab interval, bit for bit (see lt_ray_slabs), so after this clamp a node is
+ * culled against the best hit or against [tmin, tmax] only when none of its triangles could
+ * have won or tied: every structure then returns exactly the brute-force answer. The clamp
+ * only ever moves t towards the true hit, which lies in that interval. */
+LT_DEVICE float lt_clamp_to_box(const lt_ray_setup *r, const float *v0, const float *v1, const float *v2, float t) {
+  float lo[3], hi[3];
+  for (int k = 0; k < 3; k++) {
+    float a = v0[k], b = v1[k], c = v2[k];
+    float l = a < b ? a : b, h = a > b ? a : b;
+    lo[k] = c < l ? c : l;
+    hi[k] = c > h ? c : h;
+  }
+  float t_near, t_far;
+  if (!lt_ray_slabs(r, lo, hi, 1, &t_near, &t_far) || !(t_near <= t_far)) return NAN;
+  return t < t_near ? t_near : t > t_far ? t_far : t;
+}
+
+/* Records a hit in [tmin, tmax] that beats the one in hit. */
+LT_DEVICE int lt_record_hit(const lt_ray_setup *r, float t, float u, float v, int prim, lt_hit_record *hit) {
+  if (!(t >= r->tmin && t <= r->tmax)) return 0;
+  if (!lt_hit_better(t, prim, hit->t, hit->prim)) return 0;
+  hit->t = t;
+  hit->u = u;
+  hit->v = v;
+  hit->prim = prim;
+  return 1;
+}
+
+/* The watertight test of the triangle (v0, v1, v2) numbered prim. */
+LT_DEVICE int lt_intersect_watertight(const lt_ray_setup *r, const float *v0, const float *v1, const float *v2,
+                                      int prim, lt_hit_record *hit) {
   /* Vertices relative to the origin, sheared and scaled into ray space. */
   float a[3], b[3], c[3];
   for (int k = 0; k < 3; k++) {
@@ -92,14 +87,40 @@ LT_DEVICE int lt_intersect_triangle(const lt_ray_setup *r, const float *v0, cons
   float az = r->sz * a[r->kz], bz = r->sz * b[r->kz], cz = r->sz * c[r->kz];
   float t_scaled = u * az + v * bz + w * cz;
   float inv_det = 1.0f / det;
-  float t = t_scaled * inv_det;
-  if (!(t >= r->tmin && t <= r->tmax)) return 0;
-  if (!lt_hit_better(t, prim, hit->t, hit->prim)) return 0;
-  hit->t = t;
-  hit->u = v * inv_det;
-  hit->v = w * inv_det;
-  hit->prim = prim;
-  return 1;
+  float t = lt_clamp_to_box(r, v0, v1, v2, t_scaled * inv_det);
+  return lt_record_hit(r, t, v * inv_det, w * inv_det, prim, hit);
+}
+
+/* The Moller-Trumbore test: barycentrics from two cross products, edges included. */
+LT_DEVICE int lt_intersect_fast(const lt_ray_setup *r, const float *v0, const float *v1, const float *v2, int prim,
+                                lt_hit_record *hit) {
+  float e1[3], e2[3], s[3], p[3], q[3];
+  for (int k = 0; k < 3; k++) e1[k] = v1[k] - v0[k], e2[k] = v2[k] - v0[k], s[k] = r->org[k] - v0[k];
+  p[0] = r->dir[1] * e2[2] - r->dir[2] * e2[1];
+  p[1] = r->dir[2] * e2[0] - r->dir[0] * e2[2];
+  p[2] = r->dir[0] * e2[1] - r->dir[1] * e2[0];
+  float det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
+  if (det == 0.0f) return 0;
+  float inv_det = 1.0f / det;
+
+  /* The weight of v1, then of v2; each must be in [0, 1] and their sum at most 1. */
+  float u = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) * inv_det;
+  if (!(u >= 0.0f && u <= 1.0f)) return 0;
+  q[0] = s[1] * e1[2] - s[2] * e1[1];
+  q[1] = s[2] * e1[0] - s[0] * e1[2];
+  q[2] = s[0] * e1[1] - s[1] * e1[0];
+  float v = (r->dir[0] * q[0] + r->dir[1] * q[1] + r->dir[2] * q[2]) * inv_det;
+  if (!(v >= 0.0f && u + v <= 1.0f)) return 0;
+  float t = lt_clamp_to_box(r, v0, v1, v2, (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) * inv_det);
+  return lt_record_hit(r, t, u, v, prim, hit);
+}
+
+/* Tests the triangle (v0, v1, v2) numbered prim with the ray's test; on a better hit in
+ * [tmin, tmax] updates hit and returns 1. */
+LT_DEVICE int lt_intersect_triangle(const lt_ray_setup *r, const float *v0, const float *v1, const float *v2,
+                                    int prim, lt_hit_record *hit) {
+  if (r->flags & LT_QUERY_FLAG_FAST_TRIANGLES) return lt_intersect_fast(r, v0, v1, v2, prim, hit);
+  return lt_intersect_watertight(r, v0, v1, v2, prim, hit);
 }
 
 #endif

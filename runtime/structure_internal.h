@@ -1,0 +1,21 @@
+/* Internal knobs of structures and the reference, for tests and the accuracy report: the query
+ * flags that pick the numerics (traversal/ray.h), including ones the public API does not
+ * offer because they only exist to be measured. */
+#ifndef LT_STRUCTURE_INTERNAL_H
+#define LT_STRUCTURE_INTERNAL_H
+
+#include "builders/bvh_sah.h"
+#include "lazytrace.h"
+
+/* The brute-force reference with query flags (LT_QUERY_FLAG_*) instead of a query kind. */
+lt_status lt__reference_trace_flags(const lt_scene *scene, const lt_ray *rays, size_t count, int flags,
+                                    lt_hit *hits);
+/* Flags added to every later trace of the structure (LT_QUERY_FLAG_PLAIN_SLABS, ...). */
+void lt__structure_set_flags(lt_structure *structure, int flags);
+/* The query flags a trace of this structure uses for a query kind. */
+int lt__structure_flags(const lt_structure *structure, int query);
+/* A structure over a tree built on the host (builders/bvh_sweep.c, ...), traced by the trace
+ * kernel like the LBVH; takes the tree's arrays (bvh is left empty). */
+lt_status lt__structure_from_bvh(lt_context *ctx, const lt_scene *scene, lt__bvh *bvh, lt_structure **out);
+
+#endif

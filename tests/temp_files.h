@@ -1,0 +1,14 @@
+/* Files written by tests, in one temporary directory per test group. */
+#ifndef LT_TEST_TEMP_FILES_H
+#define LT_TEST_TEMP_FILES_H
+
+/* A temporary directory for a test group's files (cmocka group setup and teardown): the
+ * teardown removes the files made through lt_test_temp_path and the directory. */
+int lt_test_temp_dir_create(void **state);
+int lt_test_temp_dir_remove(void **state);
+/* A path of that name in the directory, remembered for removal. */
+const char *lt_test_temp_path(const char *name);
+/* Writes text to a file of that name in the directory; returns its path. */
+const char *lt_test_write_file(const char *name, const char *text);
+
+#endif
