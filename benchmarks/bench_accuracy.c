@@ -526,8 +526,7 @@ int main(int argc, char **argv) {
               st->leaks_other, st->disagreements, st->how == EMBREE ? 0.0 : st->sah_cost, b, t);
   }
   printf("\nKnobs that do not exist yet, so are not measured: the kd-tree's split clipping and the irregular and "
-         "uniform grids' densities (those structures are not implemented), and samples per pixel (no renderer "
-         "accumulates samples yet).\n");
+         "uniform grids' densities (those structures are not implemented yet).\n");
   if (csv) fclose(csv);
   free(rays), free(hits);
   lt_scene_destroy(scene);
