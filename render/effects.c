@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "render/render_internal.h"
+#include "scenes/ray_offset.h"
 
 #define PI 3.14159265358979f
 
@@ -74,13 +75,6 @@ static float normalise(float v[3]) {
   return len;
 }
 
-/* A distance secondary rays start off the surface: a bound on the hit point's rounding
- * error relative to the coordinates' magnitude (as the library's AO rays do). */
-static float surface_offset(const float p[3]) {
-  float mag = fmaxf(fmaxf(fabsf(p[0]), fabsf(p[1])), fabsf(p[2]));
-  return 32.0f * 5.96e-8f * (mag + 1.0f);
-}
-
 /* A cosine-weighted direction around the unit normal n. */
 static void cosine_direction(const float n[3], uint64_t *rng, float out[3]) {
   float a[3] = {fabsf(n[0]) > 0.9f ? 0.0f : 1.0f, fabsf(n[0]) > 0.9f ? 1.0f : 0.0f, 0.0f}, b1[3], b2[3];
@@ -98,11 +92,21 @@ static void add(float *image, int32_t pixel, const float w[3], const float c[3])
 
 /* ---- Shading one hit ---- */
 
-/* The surface seen by a ray: point, unit normal facing the ray, material. */
+/* The surface seen by a ray: the triangle, the unit normal facing the ray, the origin of the
+ * secondary rays (the hit point moved off the surface by its rounding bound), material. */
 typedef struct surface {
-  float p[3], n[3], cos_view;
+  const float *tri;
+  int prim;
+  float o[3], n[3], cos_view;
   const lt_material *m;
 } surface;
+
+/* A secondary ray from the surface: from its origin, starting past the surface itself. */
+static lt_ray secondary_ray(const surface *s, const float dir[3], float tmax) {
+  lt_ray ray = {{s->o[0], s->o[1], s->o[2]}, 0.0f, {dir[0], dir[1], dir[2]}, tmax};
+  ray.tmin = lt__secondary_tmin(s->tri, s->prim, s->o, dir, tmax);
+  return ray;
+}
 
 static int surface_at(const lt__shading *sh, const lt_ray *ray, const lt_hit *hit, surface *s) {
   const float *t = sh->tris + 9 * (size_t)hit->prim;
@@ -114,8 +118,8 @@ static int surface_at(const lt__shading *sh, const lt_ray *ray, const lt_hit *hi
   if (s->cos_view < 0.0f)
     for (int k = 0; k < 3; k++) s->n[k] = -s->n[k];
   s->cos_view = fabsf(s->cos_view);
-  float w0 = 1.0f - hit->u - hit->v;
-  for (int k = 0; k < 3; k++) s->p[k] = w0 * t[k] + hit->u * t[3 + k] + hit->v * t[6 + k];
+  s->tri = t, s->prim = hit->prim;
+  lt__offset_origin(t, hit->u, hit->v, s->n, s->o);
   s->m = &sh->materials[lt_scene_triangle_material(sh->scene, (size_t)hit->prim)];
   return 1;
 }
@@ -124,16 +128,15 @@ static int surface_at(const lt__shading *sh, const lt_ray *ray, const lt_hit *hi
  * the unshadowed contribution straight into the image without. */
 static int direct_light(const lt__shading *sh, const surface *s, const lt__path *path, const float wd[3],
                         float *image, lt__batch *shadows) {
-  float eps = surface_offset(s->p);
   for (size_t l = 0; l < sh->light_count; l++) {
     const lt_light *light = &sh->lights[l];
     float dir[3], falloff = 1.0f, tmax = INFINITY, len;
     if (light->kind == LT_LIGHT_POINT) {
-      for (int k = 0; k < 3; k++) dir[k] = light->vector[k] - s->p[k];
+      for (int k = 0; k < 3; k++) dir[k] = light->vector[k] - s->o[k];
       len = sqrtf(dot(dir, dir));
-      if (!(len > eps)) continue;
+      if (!(len > 0.0f)) continue;
       falloff = 1.0f / (len * len);
-      tmax = 1.0f - eps / len;
+      tmax = 1.0f; /* the light itself: a point with no surface */
     } else {
       for (int k = 0; k < 3; k++) dir[k] = -light->vector[k];
       len = normalise(dir);
@@ -146,7 +149,7 @@ static int direct_light(const lt__shading *sh, const surface *s, const lt__path 
       add(image, path->pixel, shadow.weight, (const float[3]){1, 1, 1});
       continue;
     }
-    lt_ray ray = {{s->p[0], s->p[1], s->p[2]}, eps / len, {dir[0], dir[1], dir[2]}, tmax};
+    lt_ray ray = secondary_ray(s, dir, tmax);
     if (lt__batch_push(shadows, &ray, &shadow)) return 1;
   }
   return 0;
@@ -156,7 +159,6 @@ static int direct_light(const lt__shading *sh, const surface *s, const lt__path 
 static int indirect_light(const lt__shading *sh, const surface *s, const lt__path *path, const float wd[3],
                           float *image, lt__batch out[LT_EFFECT_COUNT]) {
   const lt_effects *fx = &sh->effects;
-  float eps = surface_offset(s->p);
   int ao = path->camera && fx->ao_samples > 0;
   if (fx->diffuse_samples > 0 && path->bounces < fx->diffuse_bounces) {
     /* Cosine sampling cancels the cosine and 1/pi: each ray carries albedo / samples. The
@@ -167,8 +169,9 @@ static int indirect_light(const lt__shading *sh, const surface *s, const lt__pat
       child.camera = 0, child.bounces = (uint8_t)(path->bounces + 1), child.rng = lt__path_rng_mix(path->rng, 2 * i + 1);
       child.no_sky = (uint8_t)ao;
       for (int c = 0; c < 3; c++) child.weight[c] = wd[c] / k;
-      lt_ray ray = {{s->p[0], s->p[1], s->p[2]}, eps, {0, 0, 0}, INFINITY};
-      cosine_direction(s->n, &child.rng, ray.dir);
+      float dir[3];
+      cosine_direction(s->n, &child.rng, dir);
+      lt_ray ray = secondary_ray(s, dir, INFINITY);
       if (lt__batch_push(&out[LT_EFFECT_DIFFUSE], &ray, &child)) return 1;
     }
   }
@@ -178,8 +181,9 @@ static int indirect_light(const lt__shading *sh, const surface *s, const lt__pat
     for (int i = 0; i < fx->ao_samples; i++) {
       lt__path occlusion = *path;
       for (int c = 0; c < 3; c++) occlusion.weight[c] = wd[c] * sh->background[c] / fx->ao_samples;
-      lt_ray ray = {{s->p[0], s->p[1], s->p[2]}, eps, {0, 0, 0}, fx->ao_distance};
-      cosine_direction(s->n, &rng, ray.dir);
+      float dir[3];
+      cosine_direction(s->n, &rng, dir);
+      lt_ray ray = secondary_ray(s, dir, fx->ao_distance);
       if (lt__batch_push(&out[LT_EFFECT_AO], &ray, &occlusion)) return 1;
     }
   } else if (path->camera && fx->diffuse_samples == 0) {
@@ -224,8 +228,9 @@ int lt__shade_hits(const lt__shading *sh, const lt__batch *batch, const lt_hit *
     float d[3] = {ray->dir[0], ray->dir[1], ray->dir[2]};
     normalise(d);
     float dn = dot(d, s.n);
-    lt_ray reflected = {{s.p[0], s.p[1], s.p[2]}, surface_offset(s.p), {0, 0, 0}, INFINITY};
-    for (int k = 0; k < 3; k++) reflected.dir[k] = d[k] - 2.0f * dn * s.n[k];
+    float r[3];
+    for (int k = 0; k < 3; k++) r[k] = d[k] - 2.0f * dn * s.n[k];
+    lt_ray reflected = secondary_ray(&s, r, INFINITY);
     child.mirrors = (uint8_t)(path->mirrors + 1), child.rng = lt__path_rng_mix(path->rng, 2 * fx->diffuse_samples + 2);
     if (lt__batch_push(&out[LT_EFFECT_MIRROR], &reflected, &child)) return 1;
   }

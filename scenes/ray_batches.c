@@ -5,7 +5,7 @@
 
 #include "runtime/error.h"
 #include "scenes/scene_internal.h"
-#include "traversal/intersect_triangle.h"
+#include "scenes/ray_offset.h"
 
 /* splitmix64: deterministic on every machine. */
 static uint64_t next_u64(uint64_t *state) {
@@ -15,41 +15,6 @@ static uint64_t next_u64(uint64_t *state) {
   return z ^ (z >> 31);
 }
 static float uniform(uint64_t *state) { return (next_u64(state) >> 40) * (1.0f / 16777216.0f); }
-
-/* gamma(n) = n * eps / (1 - n * eps) with eps = 2^-24, the bound on the relative error of n
- * float operations (Higham; pbrt 3, section 3.9.1). */
-static double gamma_n(int n) { return n * 0x1p-24 / (1.0 - n * 0x1p-24); }
-
-/* The origin of a secondary ray from a hit at barycentrics (u, v) of triangle t, with its
- * unit normal n turned to the side the ray leaves by.
- *
- * The hit point p = w0 * v0 + u * v1 + v * v2 with w0 = (1 - u) - v is computed in float:
- *  - w0 takes two roundings, so the weights sum to 1 + e with |e| <= gamma(2) (1 + |u| + |v|);
- *    a combination whose weights do not sum to 1 lies off the plane by e times the point;
- *  - the three products and two sums take gamma(3) of the sum of the absolute terms.
- * So each coordinate is within err_k = (gamma(3) + gamma(2) (1 + |u| + |v|)) * S_k of a point
- * of the triangle's plane, where S_k = |w0 v0_k| + |u v1_k| + |v v2_k|, and p is within
- * d = sum_k |n_k| err_k of the plane along n. Moving p by 2 d along n puts it in front of the
- * plane by at least d; each moved coordinate is then stepped one float further along n, so
- * that rounding the sum cannot give any of the distance back. The bound is computed in
- * double and is relative to the vertices' magnitudes: it grows with coordinates far from the
- * origin (a scene at 1e6) and shrinks with small ones, unlike a fixed epsilon. */
-static void offset_origin(const float *t, float u, float v, const float n[3], float p[3]) {
-  float w0 = 1 - u - v;
-  double rel = gamma_n(3) + gamma_n(2) * (1.0 + fabs(u) + fabs(v)), d = 0.0;
-  for (int k = 0; k < 3; k++) {
-    p[k] = w0 * t[k] + u * t[3 + k] + v * t[6 + k];
-    double s = fabs((double)w0 * t[k]) + fabs((double)u * t[3 + k]) + fabs((double)v * t[6 + k]);
-    d += fabs(n[k]) * rel * s;
-  }
-  float offset = (float)(2.0 * d * (1.0 + gamma_n(4)));
-  for (int k = 0; k < 3; k++) {
-    float moved = p[k] + offset * n[k];
-    if (n[k] > 0.0f) moved = nextafterf(moved, INFINITY);
-    if (n[k] < 0.0f) moved = nextafterf(moved, -INFINITY);
-    p[k] = moved;
-  }
-}
 
 size_t lt_ao_rays(const lt_scene *scene, const lt_ray *primary, const lt_hit *hits, size_t count, int samples,
                   float distance, uint64_t seed, lt_ray *out) {
@@ -70,7 +35,7 @@ size_t lt_ao_rays(const lt_scene *scene, const lt_ray *primary, const lt_hit *hi
     for (int k = 0; k < 3; k++) n[k] *= (facing > 0 ? -1.0f : 1.0f) / len;
 
     /* The origin, moved off the surface by the hit point's error bound. */
-    offset_origin(t, hits[i].u, hits[i].v, n, p);
+    lt__offset_origin(t, hits[i].u, hits[i].v, n, p);
 
     /* An orthonormal frame around the normal, then cosine-weighted directions. */
     float a[3] = {fabsf(n[0]) > 0.9f ? 0.0f : 1.0f, fabsf(n[0]) > 0.9f ? 1.0f : 0.0f, 0.0f}, b1[3], b2[3];
@@ -90,15 +55,7 @@ size_t lt_ao_rays(const lt_scene *scene, const lt_ray *primary, const lt_hit *hi
       ray->tmin = 0.0f;
       ray->tmax = distance;
 
-      /* The origin is in front of the plane and the ray leaves it, so the plane is crossed
-       * behind the origin. Only a ray running almost inside the plane can still get a
-       * computed t >= 0 on the triangle it starts from (its weights are then poorly
-       * conditioned): every backend computes that t bit for bit like the host, so the host
-       * runs the same test and starts such a ray just past it. */
-      lt_ray_setup setup = lt_ray_prepare(p[0], p[1], p[2], 0.0f, ray->dir[0], ray->dir[1], ray->dir[2], distance);
-      lt_hit_record self = {INFINITY, 0.0f, 0.0f, -1};
-      if (lt_intersect_triangle(&setup, t, t + 3, t + 6, hits[i].prim, &self))
-        ray->tmin = nextafterf(self.t, INFINITY);
+      ray->tmin = lt__secondary_tmin(t, hits[i].prim, p, ray->dir, distance);
     }
   }
   return m;
