@@ -36,6 +36,9 @@ table=$(build/benchmarks/bench_accuracy "$@" --csv $R/accuracy.csv)
   echo "  disagreements; they trade build time against the SAH cost (a proxy for trace time). The 64-bin and"
   echo "  full-sweep rows come from a single-threaded host builder (\`builders/bvh_sweep.c\`), so their build times"
   echo "  compare with its own 32-bin row, not with the pool's two work-groups; the pool's builder stops at 32 bins."
+  echo "- The pool's builder prices the splits of nodes above 16384 primitives on a regular sample of at most"
+  echo "  16384 of them (builders/sah_bins.h); the host reference bins every primitive. Compare their 32-bin"
+  echo "  rows for what sampling costs in SAH cost on this scene."
   echo "- The pool's trace times include one launch of the persistent kernel; the host-built trees (host"
   echo "  reference, LBVH) are traced by the plain trace kernel."
 } >$R/accuracy.md
