@@ -7,6 +7,7 @@
 # Takes about 5 minutes on 2 cores (most of it the double-precision brute-force reference).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+. benchmarks/provenance.sh
 scripts/setup
 scripts/build
 R=docs/results
@@ -16,8 +17,8 @@ table=$(build/benchmarks/bench_accuracy "$@" --csv $R/accuracy.csv)
   echo "# What accuracy costs: leaks, disagreements, SAH cost, build and trace time per knob"
   echo
   echo "- command: \`benchmarks/accuracy.sh $*\` (timings on the native backend, $(nproc) work-groups; Embree with as many threads)"
-  echo "- commit: $(git rev-parse --short HEAD)$(git diff --quiet HEAD -- . ':!docs' || echo ' (with uncommitted changes)')"
-  echo "- machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores, $(free -g | awk '/Mem:/ {print $2}') GiB; $(grep PRETTY /etc/os-release | cut -d= -f2 | tr -d '"')"
+  echo "- commit: $(lt_commit)"
+  echo "- machine: $(lt_machine)"
   echo "- OpenCL: $(clinfo -l 2>/dev/null | sed -n 's/.*Device #0: //p' | head -1); Embree $(dpkg-query -W -f='${Version}' libembree-dev 2>/dev/null || echo 'not installed') (robust flag); date $(date -u +%Y-%m-%d)"
   echo
   echo "![SAH cost and time per bin count and leaf size; leaks per method](accuracy.png)"

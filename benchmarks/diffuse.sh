@@ -8,6 +8,7 @@
 # The committed results: --runs 5 --samples 1,2,4,8,16,32,64,128,256, about 5 minutes on 2 cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+. benchmarks/provenance.sh
 scripts/setup
 scripts/build
 B=build/benchmarks/bench_diffuse
@@ -17,8 +18,8 @@ mkdir -p $R
   echo "# Diffuse samples per pixel: full against on-demand builds (the paper's Figure 6)"
   echo
   echo "- command: \`benchmarks/diffuse.sh $*\` (native backend, $(nproc) work-groups)"
-  echo "- commit: $(git rev-parse --short HEAD)$(git diff --quiet HEAD -- . ':!docs' || echo ' (with uncommitted changes)')"
-  echo "- machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores, $(free -g | awk '/Mem:/ {print $2}') GiB; $(grep PRETTY /etc/os-release | cut -d= -f2 | tr -d '"'); date $(date -u +%Y-%m-%d)"
+  echo "- commit: $(lt_commit)"
+  echo "- machine: $(lt_machine); date $(date -u +%Y-%m-%d)"
   echo "- scene: house-grid:3x3 from its outer camera; effects primary + diffuse {samples S, bounces 1}, light"
   echo "  from the sky; the batches are exactly those \`lazytrace render\` traces for such a scene file"
   echo "- time to image: build plus trace over all batches (statistics total_ms), without scene loading and"

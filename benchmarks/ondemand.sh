@@ -7,6 +7,7 @@
 # Takes about 15 minutes on 2 cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+. benchmarks/provenance.sh
 scripts/setup
 scripts/build
 B=build/benchmarks/bench_ondemand
@@ -14,8 +15,8 @@ R=docs/results
 mkdir -p $R
 header() {
   echo "- command: \`benchmarks/ondemand.sh $*\` (native backend, $(nproc) work-groups; Embree with as many threads)"
-  echo "- commit: $(git rev-parse --short HEAD)$(git diff --quiet HEAD -- . ':!docs' || echo ' (with uncommitted changes)')"
-  echo "- machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores, $(free -g | awk '/Mem:/ {print $2}') GiB; $(grep PRETTY /etc/os-release | cut -d= -f2 | tr -d '"')"
+  echo "- commit: $(lt_commit)"
+  echo "- machine: $(lt_machine)"
   echo "- Embree $(dpkg-query -W -f='${Version}' libembree-dev 2>/dev/null || echo 'not installed') (robust flag); date $(date -u +%Y-%m-%d)"
   echo "- times are milliseconds to image: build plus trace, without scene loading and kernel compilation;"
   echo "  medians of the runs, methods interleaved run by run"

@@ -5,6 +5,7 @@
 #   benchmarks/pool.sh [--keys N] [--runs R]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+. benchmarks/provenance.sh
 scripts/setup
 scripts/build
 out=docs/results/pool_scheduler.md
@@ -13,8 +14,8 @@ table=$(build/benchmarks/bench_pool "$@")
   echo "# The task pool measured on its own workload (lazy sort)"
   echo
   echo "- command: \`benchmarks/pool.sh $*\`"
-  echo "- commit: $(git rev-parse --short HEAD)$(git diff --quiet HEAD -- . ':!docs' || echo ' (with uncommitted changes)')"
-  echo "- machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores, $(free -g | awk '/Mem:/ {print $2}') GiB; $(grep PRETTY /etc/os-release | cut -d= -f2 | tr -d '"')"
+  echo "- commit: $(lt_commit)"
+  echo "- machine: $(lt_machine)"
   echo "- OpenCL: $(clinfo -l 2>/dev/null | sed -n 's/.*Device #0: //p' | head -1)"
   echo "- date: $(date -u +%Y-%m-%d)"
   echo

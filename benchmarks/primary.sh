@@ -4,6 +4,7 @@
 #   benchmarks/primary.sh [SCENE] [--size N] [--runs R]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+. benchmarks/provenance.sh
 scripts/setup
 scripts/build
 out=docs/results/primary_full_bvh.md
@@ -12,8 +13,8 @@ table=$(build/benchmarks/bench_primary "$@")
   echo "# Primary rays, full SAH BVH: lazytrace (OpenCL and native) against Embree 3"
   echo
   echo "- command: \`benchmarks/primary.sh $*\`"
-  echo "- commit: $(git rev-parse --short HEAD)$(git diff --quiet HEAD -- . ':!docs' || echo ' (with uncommitted changes)')"
-  echo "- machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores, $(free -g | awk '/Mem:/ {print $2}') GiB; $(lsb_release -ds 2>/dev/null || grep PRETTY /etc/os-release | cut -d= -f2)"
+  echo "- commit: $(lt_commit)"
+  echo "- machine: $(lt_machine)"
   echo "- OpenCL: $(clinfo -l 2>/dev/null | sed -n 's/.*Device #0: //p' | head -1); Embree $(dpkg-query -W -f='${Version}' libembree-dev 2>/dev/null || echo 'not installed')"
   echo "- date: $(date -u +%Y-%m-%d)"
   echo
