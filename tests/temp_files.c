@@ -12,6 +12,8 @@
 
 #include <cmocka.h>
 
+#include "lazytrace.h"
+
 #define MAX_TEMP_FILES 64
 #define TEMP_PATH_SIZE 512
 
@@ -46,4 +48,11 @@ const char *lt_test_write_file(const char *name, const char *text) {
   assert_int_equal(fwrite(text, 1, strlen(text), f), strlen(text));
   assert_int_equal(fclose(f), 0);
   return path;
+}
+
+lt_scene *lt_test_load_ok(const char *path) {
+  lt_scene *scene = NULL;
+  lt_status status = lt_scene_load(path, &scene);
+  if (status) fail_msg("loading %s: %s: %s", path, lt_status_name(status), lt_last_error());
+  return scene;
 }

@@ -1,6 +1,9 @@
-/* Files written by tests, in one temporary directory per test group. */
+/* Files written by tests, in one temporary directory per test group, and scenes loaded from
+ * them. */
 #ifndef LT_TEST_TEMP_FILES_H
 #define LT_TEST_TEMP_FILES_H
+
+#include "lazytrace.h"
 
 /* A temporary directory for a test group's files (cmocka group setup and teardown): the
  * teardown removes the files made through lt_test_temp_path and the directory. */
@@ -10,5 +13,8 @@ int lt_test_temp_dir_remove(void **state);
 const char *lt_test_temp_path(const char *name);
 /* Writes text to a file of that name in the directory; returns its path. */
 const char *lt_test_write_file(const char *name, const char *text);
+
+/* Loads a scene that must load; fails the test with the error otherwise. */
+lt_scene *lt_test_load_ok(const char *path);
 
 #endif

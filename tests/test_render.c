@@ -16,45 +16,27 @@
 #include <unistd.h>
 
 #include "lazytrace.h"
-
-#define MAX_FILES 32
-#define PATH_SIZE 512
+#include "tests/temp_files.h"
 
 /* The bound on the mean absolute difference, in 8-bit sRGB levels, between the image through
  * the structure and the brute-force one: both trace the same rays with the same intersection
  * test and tie rule, so they should agree exactly; the bound leaves room for a rare tie. */
 #define REFERENCE_MAE_BOUND 0.5
 
-static char temp_dir[64];
-static char file_paths[MAX_FILES][PATH_SIZE];
-static int file_count;
 static lt_context *ctx;
 
 static int setup(void **state) {
-  (void)state;
-  snprintf(temp_dir, sizeof temp_dir, "/tmp/lt_render_XXXXXX");
   lt_context_config config = {LT_DEVICE_NATIVE, 0, 0, 0, 1};
-  return mkdtemp(temp_dir) && lt_context_create(&config, &ctx) == LT_OK ? 0 : -1;
+  return lt_test_temp_dir_create(state) == 0 && lt_context_create(&config, &ctx) == LT_OK ? 0 : -1;
 }
 
 static int teardown(void **state) {
-  (void)state;
   lt_context_destroy(ctx);
-  for (int i = 0; i < file_count; i++) unlink(file_paths[i]);
-  return rmdir(temp_dir);
+  return lt_test_temp_dir_remove(state);
 }
 
 static lt_scene *scene_from_text(const char *name, const char *text) {
-  assert_true(file_count < MAX_FILES);
-  char *path = file_paths[file_count++];
-  snprintf(path, PATH_SIZE, "%s/%s", temp_dir, name);
-  FILE *f = fopen(path, "wb");
-  assert_non_null(f);
-  fputs(text, f);
-  assert_int_equal(fclose(f), 0);
-  lt_scene *scene = NULL;
-  if (lt_scene_load(path, &scene)) fail_msg("%s: %s", path, lt_last_error());
-  return scene;
+  return lt_test_load_ok(lt_test_write_file(name, text));
 }
 
 /* A render through a fresh structure in the given build mode (or brute force with mode < 0);
@@ -244,11 +226,7 @@ static void render_matches_brute_force_reference(void **state) {
 static void render_direct_light_is_lambertian(void **state) {
   (void)state;
   static const char floor_obj[] = "v -4 0 -4\nv 4 0 -4\nv 4 0 4\nv -4 0 4\nf 1 4 3 2\n";
-  assert_true(file_count < MAX_FILES);
-  snprintf(file_paths[file_count], PATH_SIZE, "%s/floor.obj", temp_dir);
-  FILE *f = fopen(file_paths[file_count++], "wb");
-  fputs(floor_obj, f);
-  fclose(f);
+  lt_test_write_file("floor.obj", floor_obj);
   lt_scene *scene = scene_from_text("lambert.json",
                           "{\"meshes\": [{\"file\": \"floor.obj\"}], \"background\": [0, 0, 0],\n"
                           " \"materials\": [{\"diffuse\": [0.5, 0.25, 1]}],\n"

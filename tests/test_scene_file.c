@@ -18,13 +18,6 @@
 #include "tests/support.h"
 #include "tests/temp_files.h"
 
-static lt_scene *load_ok(const char *path) {
-  lt_scene *scene = NULL;
-  lt_status status = lt_scene_load(path, &scene);
-  if (status) fail_msg("loading %s: %s: %s", path, lt_status_name(status), lt_last_error());
-  return scene;
-}
-
 static const char one_triangle_obj[] = "v 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n";
 
 static void scene_file_issue_example_parses_every_key(void **state) {
@@ -44,7 +37,7 @@ static void scene_file_issue_example_parses_every_key(void **state) {
       " \"effects\": {\"primary\": true, \"shadows\": true, \"ao\": {\"samples\": 8, \"distance\": 2.0},\n"
       "             \"diffuse\": {\"samples\": 4, \"bounces\": 1}, \"mirror\": {\"depth\": 2},\n"
       "             \"collision\": {\"agents\": 100, \"rays\": 8, \"frames\": 20}}}\n");
-  lt_scene *scene = load_ok(path);
+  lt_scene *scene = lt_test_load_ok(path);
   assert_int_equal(lt_scene_triangle_count(scene), 80 + 1);
   assert_int_equal(lt_scene_material_count(scene), 2);
   assert_true(lt_scene_materials(scene)[1].mirror == 0.5f && lt_scene_materials(scene)[1].emission[2] == 3.0f);
@@ -83,7 +76,7 @@ static void scene_file_instances_transform_and_material(void **state) {
                                 " \"instances\": [{\"mesh\": 0},\n"
                                 "   {\"mesh\": 0, \"scale\": 2, \"rotate_y\": 90, \"translate\": [10, 20, 30], "
                                 "\"material\": 1}]}");
-  lt_scene *scene = load_ok(path);
+  lt_scene *scene = lt_test_load_ok(path);
   assert_int_equal(lt_scene_triangle_count(scene), 2);
   const float *t = lt_scene_triangles(scene);
   /* The first instance is the mesh as it is. */
@@ -104,7 +97,7 @@ static void scene_file_instances_transform_and_material(void **state) {
 static void scene_file_missing_sections_take_defaults(void **state) {
   (void)state;
   const char *path = lt_test_write_file("bare.json", "{\"meshes\": [{\"generator\": \"sphere:1\"}, {\"generator\": \"sphere:0\"}]}");
-  lt_scene *scene = load_ok(path), *sphere = load_ok("sphere:1");
+  lt_scene *scene = lt_test_load_ok(path), *sphere = lt_test_load_ok("sphere:1");
   assert_int_equal(lt_scene_triangle_count(scene), 80 + 20);
   assert_int_equal(lt_scene_material_count(scene), 1);
   assert_true(lt_scene_materials(scene)[0].diffuse[0] == 0.8f);
@@ -125,7 +118,7 @@ static void scene_file_missing_sections_take_defaults(void **state) {
 /* Generators and mesh files get the default description, so that they render as before. */
 static void scene_file_generators_have_default_description(void **state) {
   (void)state;
-  lt_scene *scene = load_ok("house-grid:1x2");
+  lt_scene *scene = lt_test_load_ok("house-grid:1x2");
   assert_int_equal(lt_scene_material_count(scene), 1);
   assert_int_equal(lt_scene_light_count(scene), 0);
   assert_int_equal(lt_scene_triangle_material(scene, 5), 0);
@@ -139,7 +132,7 @@ static void scene_file_effects_true_and_false(void **state) {
   (void)state;
   const char *path = lt_test_write_file("fx.json", "{\"meshes\": [{\"generator\": \"sphere:0\"}], \"effects\": {\"shadows\": "
                                            "false, \"ao\": true, \"diffuse\": true, \"mirror\": false}}");
-  lt_scene *scene = load_ok(path);
+  lt_scene *scene = lt_test_load_ok(path);
   lt_effects fx = lt_scene_effects(scene);
   assert_true(fx.primary && !fx.shadows && !fx.mirror_depth);
   assert_int_equal(fx.ao_samples, 8), assert_int_equal(fx.diffuse_samples, 4), assert_int_equal(fx.diffuse_bounces, 1);

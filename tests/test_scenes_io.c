@@ -16,13 +16,6 @@
 #include "tests/support.h"
 #include "tests/temp_files.h"
 
-static lt_scene *load_ok(const char *path) {
-  lt_scene *scene = NULL;
-  lt_status status = lt_scene_load(path, &scene);
-  if (status) fail_msg("loading %s: %s: %s", path, lt_status_name(status), lt_last_error());
-  return scene;
-}
-
 /* Loads a file that must fail with status and returns the error message. */
 static const char *load_fails(const char *path, lt_status expected) {
   lt_scene *scene = NULL;
@@ -80,7 +73,7 @@ static void scenes_io_obj_round_trip_is_bit_identical(void **state) {
   assert_int_equal(lt_scene_write_obj(scene, path), LT_OK);
   lt_scene_destroy(scene);
 
-  scene = load_ok(path);
+  scene = lt_test_load_ok(path);
   assert_int_equal(lt_scene_triangle_count(scene), N);
   assert_int_equal(lt_scene_skipped_triangles(scene), 0);
   assert_memory_equal(lt_scene_triangles(scene), tris, sizeof tris);
@@ -95,7 +88,7 @@ static void scenes_io_obj_fans_quad_and_pentagon_from_first_vertex(void **state)
                                 "f 1 2 3 4\n"
                                 "f 5 6 7 8 9\n");
   const float v[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 2, 1, 1, 1, 2, 1, 0, 1, 1};
-  lt_scene *scene = load_ok(path);
+  lt_scene *scene = lt_test_load_ok(path);
   assert_int_equal(lt_scene_triangle_count(scene), 2 + 3);
   assert_triangle(scene, 0, v, 0, 1, 2);
   assert_triangle(scene, 1, v, 0, 2, 3);
@@ -113,7 +106,7 @@ static void scenes_io_obj_negative_indices_count_back_from_last_vertex(void **st
                                 "v 5 5 5\n"
                                 "f -1 -4 -2\n");
   const float v[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 5, 5, 5};
-  lt_scene *scene = load_ok(path);
+  lt_scene *scene = lt_test_load_ok(path);
   assert_int_equal(lt_scene_triangle_count(scene), 2);
   assert_triangle(scene, 0, v, 0, 1, 2);
   assert_triangle(scene, 1, v, 3, 0, 2);
@@ -130,7 +123,7 @@ static void scenes_io_obj_reads_slash_forms(void **state) {
                                 "f 1/1/1 2/2/1 4/3/1\n"
                                 "f -4/-3/-1 -3//-1 -2/1\n");
   const float v[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
-  lt_scene *scene = load_ok(path);
+  lt_scene *scene = lt_test_load_ok(path);
   assert_int_equal(lt_scene_triangle_count(scene), 4);
   assert_triangle(scene, 0, v, 0, 1, 2);
   assert_triangle(scene, 1, v, 1, 3, 2);
@@ -153,7 +146,7 @@ static void scenes_io_obj_skips_other_statements_crlf_and_indentation(void **sta
                                 "l 1 2\r\np 1\r\n"
                                 "   f 1 2 3   \r\n");
   const float v[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
-  lt_scene *scene = load_ok(path);
+  lt_scene *scene = lt_test_load_ok(path);
   assert_int_equal(lt_scene_triangle_count(scene), 1);
   assert_triangle(scene, 0, v, 0, 1, 2);
   lt_scene_destroy(scene);
@@ -172,7 +165,7 @@ static void scenes_io_obj_reads_lines_of_any_length(void **state) {
   fputs("\n", f);
   assert_int_equal(fclose(f), 0);
 
-  lt_scene *scene = load_ok(path);
+  lt_scene *scene = lt_test_load_ok(path);
   assert_int_equal(lt_scene_triangle_count(scene), N - 2);
   const float *last = lt_scene_triangles(scene) + 9 * (N - 3);
   assert_true(last[0] == 0.0f && last[3] == (float)(N - 2) && last[6] == (float)(N - 1));
@@ -230,7 +223,7 @@ static void scenes_io_obj_nan_vertex_skips_and_counts_triangle(void **state) {
                                 "v 0 0 0\nv 1 0 0\nv 0 1 0\nv nan 0 0\nv 0 inf 0\n"
                                 "f 1 2 3\nf 1 2 4\nf 5 1 2\nf 3 2 1\n");
   const float v[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
-  lt_scene *scene = load_ok(path);
+  lt_scene *scene = lt_test_load_ok(path);
   assert_int_equal(lt_scene_triangle_count(scene), 2);
   assert_int_equal(lt_scene_skipped_triangles(scene), 2);
   assert_triangle(scene, 0, v, 0, 1, 2);
@@ -251,7 +244,7 @@ static void scenes_io_ply_loads_through_assimp(void **state) {
                                 "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0.5 2\n"
                                 "3 0 1 4\n"
                                 "4 0 1 2 3\n");
-  lt_scene *scene = load_ok(path);
+  lt_scene *scene = lt_test_load_ok(path);
   assert_int_equal(lt_scene_triangle_count(scene), 1 + 2);
   float lo[3], hi[3];
   lt_scene_bounds(scene, lo, hi);
@@ -274,12 +267,12 @@ static void scenes_io_generators_round_trip_through_obj(void **state) {
   (void)state;
   const char *specs[] = {"house", "house-row:2", "house-grid:2x1", "hairball:50", "teapot-stadium", "sphere:3", "cornell"};
   for (size_t i = 0; i < sizeof specs / sizeof specs[0]; i++) {
-    lt_scene *generated = load_ok(specs[i]);
+    lt_scene *generated = lt_test_load_ok(specs[i]);
     char name[32];
     snprintf(name, sizeof name, "gen%zu.obj", i);
     const char *path = lt_test_temp_path(name);
     assert_int_equal(lt_scene_write_obj(generated, path), LT_OK);
-    lt_scene *loaded = load_ok(path);
+    lt_scene *loaded = lt_test_load_ok(path);
     size_t n = lt_scene_triangle_count(generated);
     assert_int_equal(lt_scene_triangle_count(loaded), n);
     assert_memory_equal(lt_scene_triangles(loaded), lt_scene_triangles(generated), n * 9 * sizeof(float));
@@ -291,7 +284,7 @@ static void scenes_io_generators_round_trip_through_obj(void **state) {
 /* Generators are deterministic: the same spec gives the same bytes. */
 static void scenes_io_generators_are_deterministic(void **state) {
   (void)state;
-  lt_scene *a = load_ok("house-grid:2x2"), *b = load_ok("house-grid:2x2");
+  lt_scene *a = lt_test_load_ok("house-grid:2x2"), *b = lt_test_load_ok("house-grid:2x2");
   assert_int_equal(lt_scene_triangle_count(a), lt_scene_triangle_count(b));
   assert_memory_equal(lt_scene_triangles(a), lt_scene_triangles(b), lt_scene_triangle_count(a) * 9 * sizeof(float));
   lt_scene_destroy(a);
