@@ -17,12 +17,12 @@
 
 #include "lazytrace.h"
 #include "benchmarks/median.h"
+#include "benchmarks/methods.h"
 
 #define MAX_RUNS    16
 #define MAX_SAMPLES 16
-#define METHODS     4
-enum { FULL, REQUESTED, SPECULATIVE, LBVH };
-static const char *const method_names[METHODS] = {"full", "requested", "speculative", "lbvh"};
+#define METHODS 4 /* full, requested, speculative, LBVH: no Embree here */
+enum { FULL = LT_BENCH_FULL, REQUESTED = LT_BENCH_REQUESTED, SPECULATIVE = LT_BENCH_SPECULATIVE, LBVH = LT_BENCH_LBVH };
 
 typedef struct figures {
   double total[MAX_RUNS], build[MAX_RUNS], trace[MAX_RUNS];
@@ -32,11 +32,7 @@ typedef struct figures {
 /* One render with one method; the image lands in image. */
 static int run_method(lt_context *ctx, const lt_scene *scene, int method, const lt_render_config *config, float *image,
                       figures *f, int run) {
-  lt_structure_config sc = {method == LBVH ? LT_STRUCTURE_LBVH : LT_STRUCTURE_BVH,
-                            method == REQUESTED     ? LT_BUILD_REQUESTED
-                            : method == SPECULATIVE ? LT_BUILD_SPECULATIVE
-                                                    : LT_BUILD_FULL,
-                            16, 32, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
+  lt_structure_config sc = lt_bench_method_config(method);
   lt_stats *stats;
   lt_structure *s = NULL;
   lt_stats_create(&stats);
@@ -44,7 +40,7 @@ static int run_method(lt_context *ctx, const lt_scene *scene, int method, const 
   if (!status) status = lt_render(s, scene, config, image, stats);
   lt_structure_destroy(s);
   if (status) {
-    fprintf(stderr, "%s: %s\n", method_names[method], lt_last_error());
+    fprintf(stderr, "%s: %s\n", lt_bench_method_names[method], lt_last_error());
     lt_stats_destroy(stats);
     return 1;
   }
@@ -111,8 +107,8 @@ int main(int argc, char **argv) {
       for (int m = 0; m < METHODS && !rc; m++) {
         rc = run_method(ctx, scene, m, &config, m == FULL ? reference : image, &f[m], run);
         if (!rc && m != FULL && m != LBVH && memcmp(reference, image, 3 * pixels * sizeof(float)) != 0)
-          rc = (fprintf(stderr, "%s: image differs from the full build's\n", method_names[m]), 1);
-        if (!rc) fprintf(stderr, "  %2d samples %-11s run %d: %8.1f ms\n", samples[s], method_names[m], run + 1,
+          rc = (fprintf(stderr, "%s: image differs from the full build's\n", lt_bench_method_names[m]), 1);
+        if (!rc) fprintf(stderr, "  %2d samples %-11s run %d: %8.1f ms\n", samples[s], lt_bench_method_names[m], run + 1,
                          f[m].total[run]);
       }
     if (rc) break;

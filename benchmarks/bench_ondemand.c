@@ -17,12 +17,13 @@
 #ifdef LT_HAVE_EMBREE
 #include "benchmarks/embree_peer.h"
 #include "benchmarks/median.h"
+#include "benchmarks/methods.h"
 #endif
 
 #define MAX_RUNS 16
-#define METHODS 5
-enum { FULL, REQUESTED, SPECULATIVE, LBVH, EMBREE };
-static const char *const method_names[METHODS] = {"full", "requested", "speculative", "lbvh", "embree"};
+#define METHODS LT_BENCH_METHODS
+enum { FULL = LT_BENCH_FULL, REQUESTED = LT_BENCH_REQUESTED, SPECULATIVE = LT_BENCH_SPECULATIVE, LBVH = LT_BENCH_LBVH,
+       EMBREE = LT_BENCH_EMBREE };
 
 typedef struct figures {
   double total[MAX_RUNS], build[MAX_RUNS], trace[MAX_RUNS];
@@ -61,11 +62,7 @@ static int run_method(const lt_scene *scene, int method, const batch *batches, i
     return 1;
 #endif
   }
-  lt_structure_config config = {method == LBVH ? LT_STRUCTURE_LBVH : LT_STRUCTURE_BVH,
-                                method == REQUESTED     ? LT_BUILD_REQUESTED
-                                : method == SPECULATIVE ? LT_BUILD_SPECULATIVE
-                                                        : LT_BUILD_FULL,
-                                16, 32, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
+  lt_structure_config config = lt_bench_method_config(method);
   lt_stats *stats;
   lt_structure *s;
   lt_stats_create(&stats);
@@ -73,7 +70,7 @@ static int run_method(const lt_scene *scene, int method, const batch *batches, i
   for (int b = 0; !status && b < nbatches; b++)
     status = lt_structure_trace(s, batches[b].rays, batches[b].count, batches[b].any ? LT_QUERY_ANY : LT_QUERY_CLOSEST,
                                 hits, stats);
-  if (status) return fprintf(stderr, "%s: %s\n", method_names[method], lt_last_error()), 1;
+  if (status) return fprintf(stderr, "%s: %s\n", lt_bench_method_names[method], lt_last_error()), 1;
   f->total[run] = lt_stats_get(stats, "total_ms");
   f->build[run] = lt_stats_get(stats, "build_ms");
   f->trace[run] = lt_stats_get(stats, "trace_ms");
@@ -99,8 +96,8 @@ static int run_all(const lt_scene *scene, const batch *batches, int nbatches, in
       if (m != FULL && m != EMBREE && closest)
         for (size_t i = 0; i < last; i++)
           if (hits[i].prim != ref[i].prim || (hits[i].prim >= 0 && hits[i].t != ref[i].t))
-            return fprintf(stderr, "%s: hit %zu differs from the full build's\n", method_names[m], i), 1;
-      fprintf(stderr, "    %-11s run %d: %8.1f ms\n", method_names[m], run + 1, f[m].total[run]);
+            return fprintf(stderr, "%s: hit %zu differs from the full build's\n", lt_bench_method_names[m], i), 1;
+      fprintf(stderr, "    %-11s run %d: %8.1f ms\n", lt_bench_method_names[m], run + 1, f[m].total[run]);
     }
   free(ref), free(hits);
   return 0;
@@ -110,7 +107,7 @@ static void csv_row(FILE *csv, const char *scene, const char *camera, const char
   if (!csv) return;
   for (int m = 0; m < METHODS; m++)
     if (f[m].ok)
-      fprintf(csv, "%s,%s,%s,%s,%.2f,%.2f,%.2f,%.0f,%.0f\n", scene, camera, workload, method_names[m],
+      fprintf(csv, "%s,%s,%s,%s,%.2f,%.2f,%.2f,%.0f,%.0f\n", scene, camera, workload, lt_bench_method_names[m],
               lt_bench_median(f[m].total, runs), lt_bench_median(f[m].build, runs), lt_bench_median(f[m].trace, runs),
               m == EMBREE ? -1.0 : f[m].nodes, m == EMBREE ? -1.0 : f[m].sort_ops);
 }
@@ -236,7 +233,7 @@ static int collide(int argc, char **argv, int runs, FILE *csv) {
         }
         if (failed) continue;
         f[m].total[run] = total, f[m].nodes = nodes / frames, f[m].ok = 1;
-        fprintf(stderr, "    %-11s run %d: %8.1f ms\n", method_names[m], run + 1, total);
+        fprintf(stderr, "    %-11s run %d: %8.1f ms\n", lt_bench_method_names[m], run + 1, total);
       }
     double full = lt_bench_median(f[FULL].total, runs), req = lt_bench_median(f[REQUESTED].total, runs);
     double spec = lt_bench_median(f[SPECULATIVE].total, runs), best = req < spec ? req : spec;
