@@ -7,11 +7,8 @@
 # Takes about 5 minutes on 2 cores (most of it the double-precision brute-force reference).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-. benchmarks/provenance.sh
-scripts/setup
-scripts/build
-R=docs/results
-mkdir -p $R
+. benchmarks/common.sh
+lt_bench_prepare
 table=$(build/benchmarks/bench_accuracy "$@" --csv $R/accuracy.csv)
 {
   echo "# What accuracy costs: leaks, disagreements, SAH cost, build and trace time per knob"

@@ -8,12 +8,9 @@
 # The committed results: --runs 5 --samples 1,2,4,8,16,32,64,128,256, about 5 minutes on 2 cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-. benchmarks/provenance.sh
-scripts/setup
-scripts/build
+. benchmarks/common.sh
+lt_bench_prepare
 B=build/benchmarks/bench_diffuse
-R=docs/results
-mkdir -p $R
 {
   echo "# Diffuse samples per pixel: full against on-demand builds (the paper's Figure 6)"
   echo

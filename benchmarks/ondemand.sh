@@ -7,12 +7,9 @@
 # Takes about 15 minutes on 2 cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-. benchmarks/provenance.sh
-scripts/setup
-scripts/build
+. benchmarks/common.sh
+lt_bench_prepare
 B=build/benchmarks/bench_ondemand
-R=docs/results
-mkdir -p $R
 header() {
   echo "- command: \`benchmarks/ondemand.sh $*\` (native backend, $(nproc) work-groups; Embree with as many threads)"
   echo "- commit: $(lt_commit)"

@@ -5,10 +5,9 @@
 #   benchmarks/pool.sh [--keys N] [--runs R]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-. benchmarks/provenance.sh
-scripts/setup
-scripts/build
-out=docs/results/pool_scheduler.md
+. benchmarks/common.sh
+lt_bench_prepare
+out=$R/pool_scheduler.md
 table=$(build/benchmarks/bench_pool "$@")
 {
   echo "# The task pool measured on its own workload (lazy sort)"

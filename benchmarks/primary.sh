@@ -4,10 +4,9 @@
 #   benchmarks/primary.sh [SCENE] [--size N] [--runs R]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-. benchmarks/provenance.sh
-scripts/setup
-scripts/build
-out=docs/results/primary_full_bvh.md
+. benchmarks/common.sh
+lt_bench_prepare
+out=$R/primary_full_bvh.md
 table=$(build/benchmarks/bench_primary "$@")
 {
   echo "# Primary rays, full SAH BVH: lazytrace (OpenCL and native) against Embree 3"

@@ -1,4 +1,13 @@
-# What every benchmark result records about where it came from; sourced by benchmarks/*.sh.
+# Sourced by benchmarks/*.sh from the repository root: what every benchmark needs first, and
+# what its results record about where they came from.
+
+# Installs what is missing and builds (Release); results go to $R.
+R=docs/results
+lt_bench_prepare() {
+  scripts/setup
+  scripts/build
+  mkdir -p "$R"
+}
 
 # The machine: CPU model, cores, memory and operating system, on one line.
 lt_machine() {
