@@ -108,7 +108,8 @@ static lt_ray secondary_ray(const surface *s, const float dir[3], float tmax) {
   return ray;
 }
 
-static int surface_at(const lt__shading *sh, const lt_ray *ray, const lt_hit *hit, surface *s) {
+/* The surface a hit sees; the origin (o) only when lights or secondary rays need it. */
+static int surface_at(const lt__shading *sh, const lt_ray *ray, const lt_hit *hit, int spawns, surface *s) {
   const float *t = sh->tris + 9 * (size_t)hit->prim;
   float e1[3], e2[3], d[3] = {ray->dir[0], ray->dir[1], ray->dir[2]};
   for (int k = 0; k < 3; k++) e1[k] = t[3 + k] - t[k], e2[k] = t[6 + k] - t[k];
@@ -119,7 +120,7 @@ static int surface_at(const lt__shading *sh, const lt_ray *ray, const lt_hit *hi
     for (int k = 0; k < 3; k++) s->n[k] = -s->n[k];
   s->cos_view = fabsf(s->cos_view);
   s->tri = t, s->prim = hit->prim;
-  lt__offset_origin(t, hit->u, hit->v, s->n, s->o);
+  if (spawns) lt__offset_origin(t, hit->u, hit->v, s->n, s->o);
   s->m = &sh->materials[lt_scene_triangle_material(sh->scene, (size_t)hit->prim)];
   return 1;
 }
@@ -196,6 +197,8 @@ static int indirect_light(const lt__shading *sh, const surface *s, const lt__pat
 int lt__shade_hits(const lt__shading *sh, const lt__batch *batch, const lt_hit *hits, float *image,
                    lt__batch out[LT_EFFECT_COUNT]) {
   const lt_effects *fx = &sh->effects;
+  /* The origin serves the secondary rays and the direction to point lights. */
+  int spawns = sh->light_count > 0 || fx->ao_samples > 0 || fx->diffuse_samples > 0 || fx->mirror_depth > 0;
   for (size_t i = 0; i < batch->count; i++) {
     const lt__path *path = &batch->paths[i];
     const lt_ray *ray = &batch->rays[i];
@@ -206,7 +209,7 @@ int lt__shade_hits(const lt__shading *sh, const lt__batch *batch, const lt_hit *
       if (!path->no_sky) add(image, path->pixel, path->weight, sh->background);
       continue;
     }
-    if (!surface_at(sh, ray, &hits[i], &s)) continue;
+    if (!surface_at(sh, ray, &hits[i], spawns, &s)) continue;
     add(image, path->pixel, path->weight, s.m->emission);
 
     /* The mirror part only where mirrors are simulated; else the surface is all diffuse. */
