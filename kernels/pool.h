@@ -338,6 +338,14 @@ LT_DEVICE lt_pool_worker lt_pool_worker_new(void) {
   return w;
 }
 
+/* Counts the work-group in control->idle_groups, once per idle streak. */
+LT_DEVICE void lt_pool_mark_idle(const lt_pool *pool, lt_pool_worker *w) {
+  if (!w->idle) {
+    w->idle = 1;
+    lt_atomic_add_i32(&pool->control->idle_groups, 1);
+  }
+}
+
 /* The stall cap. A round that found nothing is an idle poll; it counts towards the cap only
  * while every work-group of the launch is idle (or gone) and the global progress counter has
  * not moved. A work-group that is tracing a long batch, or whose thread the operating system
@@ -345,10 +353,7 @@ LT_DEVICE lt_pool_worker lt_pool_worker_new(void) {
  * poll and nothing moves, nothing can (a true hang), and the cap turns it into an error. */
 LT_DEVICE void lt_pool_idle(const lt_pool *pool, lt_pool_worker *w, lt_i32 max_idle_polls) {
   lt_pool_count(pool, LT_POOL_STAT_IDLE, 1);
-  if (!w->idle) {
-    w->idle = 1;
-    lt_atomic_add_i32(&pool->control->idle_groups, 1);
-  }
+  lt_pool_mark_idle(pool, w);
   lt_i32 progress = lt_atomic_load_i32(&pool->control->progress);
   int all_idle = lt_atomic_load_i32(&pool->control->idle_groups) >= lt_atomic_load_i32(&pool->control->groups);
   w->polls = progress == w->last_progress && all_idle ? w->polls + 1 : 0;
@@ -366,12 +371,7 @@ LT_DEVICE void lt_pool_busy(const lt_pool *pool, lt_pool_worker *w) {
 }
 
 /* A work-group that quits stays counted as idle: the others' stall cap must not wait for it. */
-LT_DEVICE void lt_pool_leave(const lt_pool *pool, lt_pool_worker *w) {
-  if (!w->idle) {
-    w->idle = 1;
-    lt_atomic_add_i32(&pool->control->idle_groups, 1);
-  }
-}
+LT_DEVICE void lt_pool_leave(const lt_pool *pool, lt_pool_worker *w) { lt_pool_mark_idle(pool, w); }
 
 /* The round's decision: when none of the group's items waits, a new batch of batch_size out of
  * item_count (or, out of items, giving up); otherwise, or then, a chunk of work when an item
