@@ -65,17 +65,35 @@ static int partition(builder *b, int begin, int end, const lt_split *s, const lt
   return left;
 }
 
-static void set_child(lt_bvh_node *node, int side, const child *c) {
-  const lt_box *x = &c->bounds;
+void lt__bvh_set_child(lt_bvh_node *node, int side, const lt_box *x, int link, int count) {
   if (side == 0) {
     node->left_xy = lt_make_float4(x->lo[0], x->hi[0], x->lo[1], x->hi[1]);
     node->lr_z.x = x->lo[2], node->lr_z.y = x->hi[2];
-    node->link[0] = c->link, node->link[2] = c->count;
+    node->link[0] = link, node->link[2] = count;
   } else {
     node->right_xy = lt_make_float4(x->lo[0], x->hi[0], x->lo[1], x->hi[1]);
     node->lr_z.z = x->lo[2], node->lr_z.w = x->hi[2];
-    node->link[1] = c->link, node->link[3] = c->count;
+    node->link[1] = link, node->link[3] = count;
   }
+}
+
+void lt__bvh_finish(lt__bvh *out, const float *tris, const int *leaf_order, size_t n, const lt_box *root, int link,
+                    int count) {
+  if (count > 0) {
+    lt_box empty = lt_box_empty();
+    out->node_count = 1;
+    lt__bvh_set_child(&out->nodes[0], 0, root, link, count);
+    lt__bvh_set_child(&out->nodes[0], 1, &empty, -1, 0);
+  }
+  for (size_t i = 0; i < n; i++) {
+    const float *t = tris + 9 * (size_t)leaf_order[i];
+    out->tris[i].v0 = lt_make_float4(t[0], t[1], t[2], lt_int_as_float(leaf_order[i]));
+    out->tris[i].v1 = lt_make_float4(t[3], t[4], t[5], 0.0f);
+    out->tris[i].v2 = lt_make_float4(t[6], t[7], t[8], 0.0f);
+  }
+  out->tri_count = (int)n;
+  float root_area = lt_box_area(root);
+  out->sah_cost = root_area > 0.0f ? out->sah_cost / root_area : 0.0;
 }
 
 /* Builds the subtree over index[begin, end) and describes it as a child link. */
@@ -114,8 +132,8 @@ static void build(builder *b, int begin, int end, int depth, child *out) {
   child left, right;
   build(b, begin, mid, depth + 1, &left);
   build(b, mid, end, depth + 1, &right);
-  set_child(&bvh->nodes[node], 0, &left);
-  set_child(&bvh->nodes[node], 1, &right);
+  lt__bvh_set_child(&bvh->nodes[node], 0, &left.bounds, left.link, left.count);
+  lt__bvh_set_child(&bvh->nodes[node], 1, &right.bounds, right.link, right.count);
 }
 
 lt_status lt__bvh_build_sah(const float *tris, size_t n, const lt__sah_config *config, lt__bvh *out) {
@@ -139,26 +157,9 @@ lt_status lt__bvh_build_sah(const float *tris, size_t n, const lt__sah_config *c
     b.index[i] = (int)i;
   }
 
-  /* The root is always an inner node; a scene that is one leaf gets an empty sibling. */
   child root;
   build(&b, 0, (int)n, 0, &root);
-  if (root.count > 0) {
-    child empty = {lt_box_empty(), -1, 0};
-    out->node_count = 1;
-    set_child(&out->nodes[0], 0, &root);
-    set_child(&out->nodes[0], 1, &empty);
-  }
-
-  /* Triangles in leaf order, each carrying its number. */
-  for (size_t i = 0; i < n; i++) {
-    const float *t = tris + 9 * b.index[i];
-    out->tris[i].v0 = lt_make_float4(t[0], t[1], t[2], lt_int_as_float(b.index[i]));
-    out->tris[i].v1 = lt_make_float4(t[3], t[4], t[5], 0.0f);
-    out->tris[i].v2 = lt_make_float4(t[6], t[7], t[8], 0.0f);
-  }
-  out->tri_count = (int)n;
-  float root_area = lt_box_area(&root.bounds);
-  out->sah_cost = root_area > 0.0f ? out->sah_cost / root_area : 0.0;
+  lt__bvh_finish(out, tris, b.index, n, &root.bounds, root.link, root.count);
   free(b.prim_box), free(b.centroid), free(b.index), free(b.scratch);
   return LT_OK;
 }

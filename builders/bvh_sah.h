@@ -5,6 +5,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "builders/sah_bins.h"
 #include "kernels/shared_types.h"
 #include "lazytrace.h"
 
@@ -33,6 +34,15 @@ typedef struct lt__bvh {
 /* Builds over n triangles of 9 floats each. */
 lt_status lt__bvh_build_sah(const float *tris, size_t n, const lt__sah_config *config, lt__bvh *out);
 void lt__bvh_free(lt__bvh *bvh);
+/* Shared by the host builders. Writes child `side` of a node: its box and link (count 0: an
+ * inner node; else a leaf of count triangles from position link). */
+void lt__bvh_set_child(lt_bvh_node *node, int side, const lt_box *box, int link, int count);
+/* Completes a host build from the root's box and link: a root that is a leaf goes under an
+ * inner node with an empty sibling; the triangles are written in leaf order (leaf_order[i] is
+ * the triangle at position i), each carrying its number; the SAH cost is made relative to the
+ * root's area. */
+void lt__bvh_finish(lt__bvh *out, const float *tris, const int *leaf_order, size_t n, const lt_box *root, int link,
+                    int count);
 /* Tree nodes, counting leaves: what the statistics call nodes. */
 int64_t lt__bvh_tree_nodes(const lt__bvh *bvh);
 

@@ -94,18 +94,6 @@ static void bin_axis(sweeper *s, int begin, int end, int axis, const lt_box *cbo
   free(box), free(count);
 }
 
-static void set_child(lt_bvh_node *node, int side, const lt_box *x, int link, int count) {
-  if (side == 0) {
-    node->left_xy = lt_make_float4(x->lo[0], x->hi[0], x->lo[1], x->hi[1]);
-    node->lr_z.x = x->lo[2], node->lr_z.y = x->hi[2];
-    node->link[0] = link, node->link[2] = count;
-  } else {
-    node->right_xy = lt_make_float4(x->lo[0], x->hi[0], x->lo[1], x->hi[1]);
-    node->lr_z.z = x->lo[2], node->lr_z.w = x->hi[2];
-    node->link[1] = link, node->link[3] = count;
-  }
-}
-
 /* Builds the subtree over index[begin, end): its box, link and count go to the out-arguments. */
 static void build(sweeper *s, int begin, int end, int depth, lt_box *bounds, int *link, int *count) {
   lt__bvh *bvh = s->bvh;
@@ -170,7 +158,8 @@ static void build(sweeper *s, int begin, int end, int depth, lt_box *bounds, int
   int child_link[2], child_count[2];
   build(s, begin, mid, depth + 1, &box[0], &child_link[0], &child_count[0]);
   build(s, mid, end, depth + 1, &box[1], &child_link[1], &child_count[1]);
-  for (int side = 0; side < 2; side++) set_child(&bvh->nodes[node], side, &box[side], child_link[side], child_count[side]);
+  for (int side = 0; side < 2; side++)
+    lt__bvh_set_child(&bvh->nodes[node], side, &box[side], child_link[side], child_count[side]);
 }
 
 lt_status lt__bvh_build_sweep(const float *tris, size_t n, const lt__sah_config *config, int bins, lt__bvh *out) {
@@ -193,27 +182,10 @@ lt_status lt__bvh_build_sweep(const float *tris, size_t n, const lt__sah_config 
     s.index[i] = (int)i;
   }
 
-  /* The root is an inner node; a scene that is one leaf gets an empty sibling. */
   lt_box root;
   int link, count;
   build(&s, 0, (int)n, 0, &root, &link, &count);
-  if (count > 0) {
-    lt_box empty = lt_box_empty();
-    out->node_count = 1;
-    set_child(&out->nodes[0], 0, &root, link, count);
-    set_child(&out->nodes[0], 1, &empty, -1, 0);
-  }
-
-  /* Triangles in leaf order, each carrying its number. */
-  for (size_t i = 0; i < n; i++) {
-    const float *t = tris + 9 * s.index[i];
-    out->tris[i].v0 = lt_make_float4(t[0], t[1], t[2], lt_int_as_float(s.index[i]));
-    out->tris[i].v1 = lt_make_float4(t[3], t[4], t[5], 0.0f);
-    out->tris[i].v2 = lt_make_float4(t[6], t[7], t[8], 0.0f);
-  }
-  out->tri_count = (int)n;
-  float root_area = lt_box_area(&root);
-  out->sah_cost = root_area > 0.0f ? out->sah_cost / root_area : 0.0;
+  lt__bvh_finish(out, tris, s.index, n, &root, link, count);
   free(s.prim_box), free(s.centroid), free(s.index), free(s.scratch), free(s.left_area);
   return LT_OK;
 }
