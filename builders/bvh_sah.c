@@ -34,17 +34,16 @@ lt__sah_config lt__sah_config_default(void) {
 /* Bins the range (every primitive, or a regular sample of a large node) and prices the
  * splits (sah_bins.h). */
 static lt_split find_split(builder *b, int begin, int end, const lt_box *bounds, const lt_box *cbounds) {
-  lt_i32 bins[LT_BINS_SIZE];
-  float scale[3];
-  lt_bins_clear(bins);
-  lt_bin_scale(cbounds, b->config->bins, scale);
+  lt_bins bins;
+  lt_v4 clo = lt_box_lo4(cbounds), scale = lt_bin_scale4(cbounds, b->config->bins);
+  lt_bins_clear(&bins);
   int step = lt_bin_step(end - begin);
   for (int i = begin; i < end; i += step) {
-    int p = b->index[i];
-    lt_bins_add(bins, cbounds, scale, b->config->bins, &b->prim_box[p], &b->centroid[3 * p]);
+    const lt_box *box = &b->prim_box[b->index[i]];
+    lt_bins_add(&bins, clo, scale, b->config->bins, lt_box_lo4(box), lt_box_hi4(box));
   }
   b->bvh->sort_ops += (uint64_t)lt_bin_sample_count(end - begin);
-  return lt_sah_best_split(bins, b->config->bins, bounds, b->config->traversal_cost, b->config->intersection_cost);
+  return lt_sah_best_split(&bins, b->config->bins, bounds, b->config->traversal_cost, b->config->intersection_cost);
 }
 
 /* Stable partition: the primitives of bins [0, s.bin] keep their order at the front, the

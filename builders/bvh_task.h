@@ -43,7 +43,7 @@
 typedef struct lt_bvh_build {
   lt_pool pool;
   LT_GLOBAL const float *verts;  /* 9 per triangle, in scene order (the scene's own array) */
-  LT_GLOBAL const float *prim_boxes; /* 6 per triangle: lo xyz, hi xyz (computed once) */
+  LT_GLOBAL const lt_v4 *prim_boxes; /* 2 per triangle: lo, hi (lanes x y z; computed once) */
   LT_GLOBAL lt_i32 *side;        /* per position: 0 left, 1 right of the split (COUNT to SCATTER) */
   LT_GLOBAL lt_i32 *index;       /* primitive references, permuted into leaf order */
   LT_GLOBAL lt_i32 *scratch;     /* room for the partition */
@@ -59,15 +59,6 @@ typedef struct lt_bvh_build {
 
 LT_DEVICE void lt_bvh_count(const lt_bvh_build *b, int stat, lt_u32 n) {
   lt_atomic_add_u32(&b->counters[lt_group_id() * LT_BVH_STAT_COUNT + stat], n);
-}
-
-/* A triangle's box and centroid, exactly as lt_tri_bounds computes them. */
-LT_DEVICE void lt_prim_bounds(const lt_bvh_build *b, lt_i32 prim, lt_box *box, float centroid[3]) {
-  LT_GLOBAL const float *p = b->prim_boxes + 6 * (long)prim;
-  for (int k = 0; k < 3; k++) {
-    box->lo[k] = p[k], box->hi[k] = p[3 + k];
-    centroid[k] = 0.5f * (box->lo[k] + box->hi[k]);
-  }
 }
 
 LT_DEVICE void lt_store_box(LT_GLOBAL lt_i32 *w, const lt_box *box) {
@@ -152,42 +143,60 @@ LT_DEVICE void lt_bvh_finish_leaf(const lt_bvh_build *b, lt_i32 slot) {
 
 /* Bins the primitives at positions lo, lo + step, ... below hi into private bins. */
 LT_DEVICE void lt_bvh_bin_range(const lt_bvh_build *b, lt_i32 lo, lt_i32 hi, lt_i32 step, const lt_box *cbounds,
-                                lt_i32 *bins) {
-  float scale[3];
-  lt_bin_scale(cbounds, b->bins, scale);
+                                lt_bins *bins) {
+  lt_v4 clo = lt_box_lo4(cbounds), scale = lt_bin_scale4(cbounds, b->bins);
   for (lt_i32 i = lo; i < hi; i += step) {
-    lt_box box;
-    float c[3];
-    lt_prim_bounds(b, b->index[i], &box, c);
-    lt_bins_add(bins, cbounds, scale, b->bins, &box, c);
+    LT_GLOBAL const lt_v4 *box = b->prim_boxes + 2 * (long)b->index[i];
+    lt_bins_add(bins, clo, scale, b->bins, box[0], box[1]);
   }
 }
 
-/* The side of split (axis * 64 + bin) a primitive goes to, 0 left or 1 right, as binning put
- * it; also gives its box and centroid. */
-LT_DEVICE int lt_bvh_side_of(const lt_bvh_build *b, lt_i32 prim, lt_i32 split, const lt_box *cbounds,
-                             const float scale[3], lt_box *box, float c[3]) {
-  lt_prim_bounds(b, prim, box, c);
-  int axis = split >> 6;
-  return lt_bin_of(c[axis], cbounds->lo[axis], scale[axis], b->bins) <= (split & 63) ? 0 : 1;
-}
+/* Both sides of a split as a partition pass grows them: boxes and centroid boxes. */
+typedef struct lt_bvh_sides {
+  lt_box box[2], cbox[2];
+} lt_bvh_sides;
 
-LT_DEVICE void lt_box_grow_point(lt_box *b, const float c[3]) {
-  lt_box p = {{c[0], c[1], c[2]}, {c[0], c[1], c[2]}};
-  lt_box_grow(b, &p);
+/* Notes in side[] which side of split (axis * 64 + bin) each primitive of index[lo, hi) goes
+ * to, 0 left or 1 right, as binning put it, and returns how many go left; bounds both sides'
+ * centroids, and their boxes too when `boxes` is set. */
+LT_DEVICE lt_i32 lt_bvh_sides_of(const lt_bvh_build *b, lt_i32 lo, lt_i32 hi, lt_i32 split, const lt_box *cbounds,
+                                 int boxes, lt_bvh_sides *out) {
+  int axis = split >> 6, bin = split & 63;
+  float scale[3];
+  lt_bin_scale(cbounds, b->bins, scale);
+  float clo = cbounds->lo[axis], s = scale[axis];
+  lt_v4 inf = lt_v4_splat(INFINITY), ninf = lt_v4_splat(-INFINITY);
+  lt_v4 llo = inf, lhi = ninf, rlo = inf, rhi = ninf, lclo = inf, lchi = ninf, rclo = inf, rchi = ninf;
+  lt_i32 left = 0;
+  for (lt_i32 i = lo; i < hi; i++) {
+    LT_GLOBAL const lt_v4 *box = b->prim_boxes + 2 * (long)b->index[i];
+    lt_v4 plo = box[0], phi = box[1], c = (plo + phi) * 0.5f;
+    int side = lt_bin_of(lt_v4_lane(c, axis), clo, s, b->bins) > bin;
+    b->side[i] = side;
+    if (side) {
+      rclo = lt_v4_min(c, rclo), rchi = lt_v4_max(c, rchi);
+      if (boxes) rlo = lt_v4_min(plo, rlo), rhi = lt_v4_max(phi, rhi);
+    } else {
+      lclo = lt_v4_min(c, lclo), lchi = lt_v4_max(c, lchi);
+      if (boxes) llo = lt_v4_min(plo, llo), lhi = lt_v4_max(phi, lhi);
+      left++;
+    }
+  }
+  out->box[0] = lt_box_of4(llo, lhi), out->box[1] = lt_box_of4(rlo, rhi);
+  out->cbox[0] = lt_box_of4(lclo, lchi), out->cbox[1] = lt_box_of4(rclo, rchi);
+  return left;
 }
 
 /* Bounds and centroid bounds of index[lo, hi). */
 LT_DEVICE void lt_bvh_bound_range(const lt_bvh_build *b, lt_i32 lo, lt_i32 hi, lt_box *box, lt_box *cbox) {
-  *box = *cbox = lt_box_empty();
+  lt_v4 blo = lt_v4_splat(INFINITY), bhi = lt_v4_splat(-INFINITY), clo = blo, chi = bhi;
   for (lt_i32 i = lo; i < hi; i++) {
-    lt_box pb;
-    float c[3];
-    lt_prim_bounds(b, b->index[i], &pb, c);
-    lt_box cb = {{c[0], c[1], c[2]}, {c[0], c[1], c[2]}};
-    lt_box_grow(box, &pb);
-    lt_box_grow(cbox, &cb);
+    LT_GLOBAL const lt_v4 *p = b->prim_boxes + 2 * (long)b->index[i];
+    lt_v4 plo = p[0], phi = p[1], c = (plo + phi) * 0.5f;
+    blo = lt_v4_min(plo, blo), bhi = lt_v4_max(phi, bhi);
+    clo = lt_v4_min(c, clo), chi = lt_v4_max(c, chi);
   }
+  *box = lt_box_of4(blo, bhi), *cbox = lt_box_of4(clo, chi);
 }
 
 /* Grows box `i` of a slab's summary (order-preserving ints) with atomics. */
@@ -206,11 +215,11 @@ LT_DEVICE void lt_slab_grow_box(LT_GLOBAL lt_i32 *slab, int i, const lt_box *box
 LT_DEVICE int lt_bvh_split_small(const lt_bvh_build *b, lt_i32 begin, lt_i32 end, lt_i32 depth, const lt_box *bounds,
                                  const lt_box *cbounds, lt_split *s, lt_i32 *mid) {
   lt_i32 n = end - begin;
-  lt_i32 bins[LT_BINS_SIZE];
-  lt_bins_clear(bins);
+  lt_bins bins;
+  lt_bins_clear(&bins);
   lt_i32 step = lt_bin_step(n);
-  lt_bvh_bin_range(b, begin, end, step, cbounds, bins);
-  *s = lt_sah_best_split(bins, b->bins, bounds, b->traversal_cost, b->intersection_cost);
+  lt_bvh_bin_range(b, begin, end, step, cbounds, &bins);
+  *s = lt_sah_best_split(&bins, b->bins, bounds, b->traversal_cost, b->intersection_cost);
   lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)lt_bin_sample_count(n));
   if (lt_sah_make_leaf(n, depth, s, b->max_leaf, b->intersection_cost, LT_BVH_MAX_DEPTH)) return 0;
 
@@ -224,21 +233,10 @@ LT_DEVICE int lt_bvh_split_small(const lt_bvh_build *b, lt_i32 begin, lt_i32 end
 
   /* Sides and exact bounds (the bins saw only a sample of a large node), then a stable
    * partition through the scratch array. */
-  lt_i32 split = s->axis * 64 + s->bin, left_count = 0;
-  float scale[3];
-  lt_bin_scale(cbounds, b->bins, scale);
-  s->left = s->right = s->cleft = s->cright = lt_box_empty();
-  for (lt_i32 i = begin; i < end; i++) {
-    lt_box box;
-    float c[3];
-    int side = lt_bvh_side_of(b, b->index[i], split, cbounds, scale, &box, c);
-    lt_box_grow(side ? &s->right : &s->left, &box);
-    lt_box_grow_point(side ? &s->cright : &s->cleft, c);
-    b->side[i] = side;
-    left_count += 1 - side;
-  }
-  s->left_count = left_count;
-  for (lt_i32 i = begin, left = begin, right = begin + left_count; i < end; i++) {
+  lt_bvh_sides sides;
+  s->left_count = lt_bvh_sides_of(b, begin, end, s->axis * 64 + s->bin, cbounds, 1, &sides);
+  s->left = sides.box[0], s->right = sides.box[1], s->cleft = sides.cbox[0], s->cright = sides.cbox[1];
+  for (lt_i32 i = begin, left = begin, right = begin + s->left_count; i < end; i++) {
     if (b->side[i]) b->scratch[right++] = b->index[i];
     else b->scratch[left++] = b->index[i];
   }
@@ -268,7 +266,7 @@ LT_DEVICE void lt_bvh_subtree(const lt_bvh_build *b, lt_i32 slot) {
   lt_i32 top = 0, root_link = -1, root_count = 0, root_address = cur.address;
   for (;;) {
     lt_split s;
-    lt_i32 mid, link, count;
+    lt_i32 mid = cur.end, link, count;
     if (lt_bvh_split_small(b, cur.begin, cur.end, cur.depth, &cur.bounds, &cur.cbounds, &s, &mid)) {
       link = lt_atomic_add_i32(&b->pool.control->nodes_next, 1), count = 0;
       if (link >= b->node_capacity) {
@@ -339,10 +337,10 @@ LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, in
     /* This chunk's part of the sample: sample j is the primitive at begin + j * step. */
     lt_i32 step = lt_bin_step(end - begin), samples = lt_bin_sample_count(end - begin);
     lt_i32 j0 = chunk * LT_BVH_CHUNK, j1 = j0 + LT_BVH_CHUNK < samples ? j0 + LT_BVH_CHUNK : samples;
-    lt_i32 bins[LT_BINS_SIZE];
-    lt_bins_clear(bins);
-    lt_bvh_bin_range(b, begin + (j0 + lid) * step, begin + j1 * step, lsize * step, &cbounds, bins);
-    lt_bins_merge_global(slab, bins);
+    lt_bins bins;
+    lt_bins_clear(&bins);
+    lt_bvh_bin_range(b, begin + (j0 + lid) * step, begin + j1 * step, lsize * step, &cbounds, &bins);
+    lt_bins_merge_global(slab, &bins);
     return;
   }
   if (phase == LT_BVH_COPY) {
@@ -355,23 +353,11 @@ LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, in
   if (phase == LT_BVH_COUNT) {
     /* Each primitive's side, the left-hand count, and both sides' centroid boxes for the
      * children; their boxes too when binning saw only a sample (otherwise the bins had them). */
-    lt_i32 split = task->work[W_SPLIT], left = 0, sampled = lt_bin_step(end - begin) > 1;
-    float scale[3];
-    lt_bin_scale(&cbounds, b->bins, scale);
-    lt_box box[2] = {lt_box_empty(), lt_box_empty()}, cbox[2] = {lt_box_empty(), lt_box_empty()};
-    for (lt_i32 i = lo; i < hi; i++) {
-      lt_box pb;
-      float c[3];
-      int side = lt_bvh_side_of(b, b->index[i], split, &cbounds, scale, &pb, c);
-      if (sampled) lt_box_grow(&box[side], &pb);
-      lt_box_grow_point(&cbox[side], c);
-      b->side[i] = side;
-      left += 1 - side;
-    }
-    b->chunk_left[lo] = left;
+    lt_bvh_sides sides;
+    b->chunk_left[lo] = lt_bvh_sides_of(b, lo, hi, task->work[W_SPLIT], &cbounds, lt_bin_step(end - begin) > 1, &sides);
     for (int side = 0; side < 2; side++) {
-      lt_slab_grow_box(slab, 2 * side, &box[side]);
-      lt_slab_grow_box(slab, 2 * side + 1, &cbox[side]);
+      lt_slab_grow_box(slab, 2 * side, &sides.box[side]);
+      lt_slab_grow_box(slab, 2 * side + 1, &sides.cbox[side]);
     }
   } else if (phase == LT_BVH_SCATTER) {
     /* This chunk's place: COUNT's end turned the chunks' left-hand counts into prefix sums. */
@@ -437,10 +423,10 @@ LT_DEVICE void lt_bvh_end_phase(const lt_bvh_build *b, lt_i32 slot) {
 
   if (phase == LT_BVH_BIN) {
     /* Price the splits from the merged bins; keep the outcome in the slab. */
-    lt_i32 bins[LT_BINS_SIZE];
-    lt_bins_from_global(bins, slab);
+    lt_bins bins;
+    lt_bins_from_global(&bins, slab);
     lt_box bounds = lt_load_box(task->work + W_BOUNDS);
-    lt_split s = lt_sah_best_split(bins, b->bins, &bounds, b->traversal_cost, b->intersection_cost);
+    lt_split s = lt_sah_best_split(&bins, b->bins, &bounds, b->traversal_cost, b->intersection_cost);
     lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)lt_bin_sample_count(n));
     if (lt_sah_make_leaf(n, task->depth, &s, b->max_leaf, b->intersection_cost, LT_BVH_MAX_DEPTH)) {
       lt_bvh_release_slab(b, task);

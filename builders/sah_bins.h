@@ -9,7 +9,8 @@
 #include "kernels/compat.h"
 
 #define LT_MAX_BINS 32
-#define LT_BIN_STRIDE 7 /* count, box lo xyz, box hi xyz */
+/* A global slab's bin: count, box lo xyz, box hi xyz (private bins are lt_bins below). */
+#define LT_BIN_STRIDE 7
 #define LT_BINS_SIZE (3 * LT_MAX_BINS * LT_BIN_STRIDE)
 
 /* A node of more primitives than LT_BIN_SAMPLES prices its splits on a regular sample: every
@@ -80,39 +81,65 @@ LT_DEVICE int lt_bin_of(float c, float lo, float scale, int bins) {
   return k < 0 ? 0 : k >= bins ? bins - 1 : k;
 }
 
-LT_DEVICE void lt_bins_clear(lt_i32 *bins) {
+/* A box as two vectors (lanes x y z, w unused) and back. */
+LT_DEVICE lt_v4 lt_box_lo4(const lt_box *b) { return lt_v4_make(b->lo[0], b->lo[1], b->lo[2], 0.0f); }
+LT_DEVICE lt_v4 lt_box_hi4(const lt_box *b) { return lt_v4_make(b->hi[0], b->hi[1], b->hi[2], 0.0f); }
+LT_DEVICE lt_box lt_box_of4(lt_v4 lo, lt_v4 hi) {
+  lt_box b;
+  for (int k = 0; k < 3; k++) b.lo[k] = lt_v4_lane(lo, k), b.hi[k] = lt_v4_lane(hi, k);
+  return b;
+}
+
+/* Surface area of a box given as two vectors, computed as lt_box_area does. */
+LT_DEVICE float lt_area4(lt_v4 lo, lt_v4 hi) {
+  lt_box b = lt_box_of4(lo, hi);
+  return lt_box_area(&b);
+}
+
+/* The bin scale as a vector (w = 0). */
+LT_DEVICE lt_v4 lt_bin_scale4(const lt_box *cbounds, int bins) {
+  float scale[3];
+  lt_bin_scale(cbounds, bins, scale);
+  return lt_v4_make(scale[0], scale[1], scale[2], 0.0f);
+}
+
+/* Private bins: per axis and bin, how many primitives fell in and the box around them (two
+ * vectors, so that adding a primitive is two vector min/max per axis). */
+typedef struct lt_bins {
+  lt_v4 lo[3 * LT_MAX_BINS], hi[3 * LT_MAX_BINS];
+  lt_i32 count[3 * LT_MAX_BINS];
+} lt_bins;
+
+LT_DEVICE void lt_bins_clear(lt_bins *bins) {
   for (int i = 0; i < 3 * LT_MAX_BINS; i++) {
-    lt_i32 *b = bins + i * LT_BIN_STRIDE;
-    b[0] = 0;
-    for (int k = 0; k < 3; k++) b[1 + k] = lt_float_as_int(INFINITY), b[4 + k] = lt_float_as_int(-INFINITY);
+    bins->lo[i] = lt_v4_splat(INFINITY), bins->hi[i] = lt_v4_splat(-INFINITY);
+    bins->count[i] = 0;
   }
 }
 
-/* Adds one primitive to its bin on every axis that has an extent. */
-LT_DEVICE void lt_bins_add(lt_i32 *bins, const lt_box *cbounds, const float scale[3], int nbins, const lt_box *box,
-                           const float centroid[3]) {
+/* Adds one primitive (box lo, hi) to its bin on every axis that has an extent; the bins are
+ * those of lt_bin_of for the centroid 0.5 * (lo + hi). */
+LT_DEVICE void lt_bins_add(lt_bins *bins, lt_v4 clo, lt_v4 scale, int nbins, lt_v4 lo, lt_v4 hi) {
+  lt_vi4 k = lt_v4_to_int(((lo + hi) * 0.5f - clo) * scale);
   for (int axis = 0; axis < 3; axis++) {
-    if (scale[axis] == 0.0f) continue;
-    lt_i32 *b = bins + (axis * LT_MAX_BINS + lt_bin_of(centroid[axis], cbounds->lo[axis], scale[axis], nbins)) * LT_BIN_STRIDE;
-    b[0]++;
-    for (int k = 0; k < 3; k++) {
-      float lo = lt_int_as_float(b[1 + k]), hi = lt_int_as_float(b[4 + k]);
-      b[1 + k] = lt_float_as_int(box->lo[k] < lo ? box->lo[k] : lo);
-      b[4 + k] = lt_float_as_int(box->hi[k] > hi ? box->hi[k] : hi);
-    }
+    if (lt_v4_lane(scale, axis) == 0.0f) continue;
+    int bin = lt_v4_lane(k, axis);
+    int i = axis * LT_MAX_BINS + (bin < 0 ? 0 : bin >= nbins ? nbins - 1 : bin);
+    bins->count[i]++;
+    bins->lo[i] = lt_v4_min(lo, bins->lo[i]);
+    bins->hi[i] = lt_v4_max(hi, bins->hi[i]);
   }
 }
 
 /* Merges private bins into a global slab with atomics (order-independent). */
-LT_DEVICE void lt_bins_merge_global(LT_GLOBAL lt_i32 *slab, const lt_i32 *bins) {
+LT_DEVICE void lt_bins_merge_global(LT_GLOBAL lt_i32 *slab, const lt_bins *bins) {
   for (int i = 0; i < 3 * LT_MAX_BINS; i++) {
-    const lt_i32 *b = bins + i * LT_BIN_STRIDE;
-    if (b[0] == 0) continue;
+    if (bins->count[i] == 0) continue;
     LT_GLOBAL lt_i32 *s = slab + i * LT_BIN_STRIDE;
-    lt_atomic_add_i32(&s[0], b[0]);
+    lt_atomic_add_i32(&s[0], bins->count[i]);
     for (int k = 0; k < 3; k++) {
-      lt_atomic_min_i32(&s[1 + k], lt_ordered(lt_int_as_float(b[1 + k])));
-      lt_atomic_max_i32(&s[4 + k], lt_ordered(lt_int_as_float(b[4 + k])));
+      lt_atomic_min_i32(&s[1 + k], lt_ordered(lt_v4_lane(bins->lo[i], k)));
+      lt_atomic_max_i32(&s[4 + k], lt_ordered(lt_v4_lane(bins->hi[i], k)));
     }
   }
 }
@@ -129,20 +156,16 @@ LT_DEVICE void lt_bins_clear_global(LT_GLOBAL lt_i32 *slab) {
   }
 }
 
-/* A slab's merged bins back in the private (float bits) form. */
-LT_DEVICE void lt_bins_from_global(lt_i32 *bins, LT_GLOBAL lt_i32 *slab) {
+/* A slab's merged bins back in the private form. */
+LT_DEVICE void lt_bins_from_global(lt_bins *bins, LT_GLOBAL lt_i32 *slab) {
   for (int i = 0; i < 3 * LT_MAX_BINS; i++) {
-    bins[i * LT_BIN_STRIDE] = lt_atomic_load_i32(&slab[i * LT_BIN_STRIDE]);
-    for (int k = 1; k < LT_BIN_STRIDE; k++)
-      bins[i * LT_BIN_STRIDE + k] = lt_float_as_int(lt_unordered(lt_atomic_load_i32(&slab[i * LT_BIN_STRIDE + k])));
+    LT_GLOBAL lt_i32 *s = slab + i * LT_BIN_STRIDE;
+    bins->count[i] = lt_atomic_load_i32(&s[0]);
+    float v[6];
+    for (int k = 0; k < 6; k++) v[k] = lt_unordered(lt_atomic_load_i32(&s[1 + k]));
+    bins->lo[i] = lt_v4_make(v[0], v[1], v[2], 0.0f);
+    bins->hi[i] = lt_v4_make(v[3], v[4], v[5], 0.0f);
   }
-}
-
-/* Accumulated box of a bin. */
-LT_DEVICE void lt_bin_grow(lt_box *acc, const lt_i32 *b) {
-  lt_box o;
-  for (int k = 0; k < 3; k++) o.lo[k] = lt_int_as_float(b[1 + k]), o.hi[k] = lt_int_as_float(b[4 + k]);
-  lt_box_grow(acc, &o);
 }
 
 /* The best split found in the bins. */
@@ -156,45 +179,48 @@ typedef struct lt_split {
 
 /* Prices every bin boundary on every axis; keeps the cheapest (the first on ties, axes in
  * order x, y, z, so that every builder makes the same choice). */
-LT_DEVICE lt_split lt_sah_best_split(const lt_i32 *bins, int nbins, const lt_box *bounds, float traversal_cost,
+LT_DEVICE lt_split lt_sah_best_split(const lt_bins *bins, int nbins, const lt_box *bounds, float traversal_cost,
                                      float intersection_cost) {
   lt_split best;
   best.axis = -1, best.bin = -1, best.cost = INFINITY, best.left_count = 0;
   float parent_area = lt_box_area(bounds);
   for (int axis = 0; axis < 3; axis++) {
-    const lt_i32 *ab = bins + axis * LT_MAX_BINS * LT_BIN_STRIDE;
+    int a = axis * LT_MAX_BINS;
 
     /* Right-hand areas and counts by a sweep from the right. */
     float right_area[LT_MAX_BINS];
     int right_count[LT_MAX_BINS];
-    lt_box acc = lt_box_empty();
+    lt_v4 lo = lt_v4_splat(INFINITY), hi = lt_v4_splat(-INFINITY);
     int n = 0;
     for (int i = nbins - 1; i > 0; i--) {
-      n += ab[i * LT_BIN_STRIDE];
-      if (ab[i * LT_BIN_STRIDE]) lt_bin_grow(&acc, ab + i * LT_BIN_STRIDE);
-      right_area[i] = lt_box_area(&acc);
+      n += bins->count[a + i];
+      if (bins->count[a + i]) lo = lt_v4_min(bins->lo[a + i], lo), hi = lt_v4_max(bins->hi[a + i], hi);
+      right_area[i] = lt_area4(lo, hi);
       right_count[i] = n;
     }
 
     /* Prices from the left. */
-    acc = lt_box_empty();
+    lo = lt_v4_splat(INFINITY), hi = lt_v4_splat(-INFINITY);
     n = 0;
     for (int i = 0; i < nbins - 1; i++) {
-      n += ab[i * LT_BIN_STRIDE];
-      if (ab[i * LT_BIN_STRIDE]) lt_bin_grow(&acc, ab + i * LT_BIN_STRIDE);
+      n += bins->count[a + i];
+      if (bins->count[a + i]) lo = lt_v4_min(bins->lo[a + i], lo), hi = lt_v4_max(bins->hi[a + i], hi);
       if (n == 0 || right_count[i + 1] == 0) continue;
       float cost = traversal_cost +
-                   intersection_cost * (lt_box_area(&acc) * n + right_area[i + 1] * right_count[i + 1]) / parent_area;
+                   intersection_cost * (lt_area4(lo, hi) * n + right_area[i + 1] * right_count[i + 1]) / parent_area;
       if (cost < best.cost) best.axis = axis, best.bin = i, best.cost = cost, best.left_count = n;
     }
   }
+  best.left = best.right = best.cleft = best.cright = lt_box_empty();
   if (best.axis < 0) return best;
 
   /* Both sides' primitive bounds, from the chosen axis's bins. */
-  const lt_i32 *ab = bins + best.axis * LT_MAX_BINS * LT_BIN_STRIDE;
-  best.left = best.right = best.cleft = best.cright = lt_box_empty();
-  for (int i = 0; i < nbins; i++)
-    if (ab[i * LT_BIN_STRIDE]) lt_bin_grow(i <= best.bin ? &best.left : &best.right, ab + i * LT_BIN_STRIDE);
+  lt_v4 lo[2] = {lt_v4_splat(INFINITY), lt_v4_splat(INFINITY)}, hi[2] = {lt_v4_splat(-INFINITY), lt_v4_splat(-INFINITY)};
+  for (int i = 0; i < nbins; i++) {
+    int j = best.axis * LT_MAX_BINS + i, side = i > best.bin;
+    if (bins->count[j]) lo[side] = lt_v4_min(bins->lo[j], lo[side]), hi[side] = lt_v4_max(bins->hi[j], hi[side]);
+  }
+  best.left = lt_box_of4(lo[0], hi[0]), best.right = lt_box_of4(lo[1], hi[1]);
   return best;
 }
 

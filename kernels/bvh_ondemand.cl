@@ -6,7 +6,7 @@
 __kernel void lt_bvh_ondemand(__global int *headers, __global lt_task *tasks, __global int *empty_cache,
                               __global int *priority_cache, __global lt_pool_control *control,
                               __global uint *stats, __global int *order, int4 sizes, int mode,
-                              __global const float *verts, __global const float *prim_boxes,
+                              __global const float *verts, __global const float4 *prim_boxes,
                               __global int *side, __global int *index, __global int *scratch,
                               __global int *chunk_left, __global lt_bvh_node *nodes, __global int *slabs,
                               __global int *slab_used, __global uint *counters, int4 build_sizes,

@@ -26,6 +26,30 @@ typedef struct lt_int4 {
   int32_t y, z, w;
 } lt_int4;
 typedef uint32_t lt_u32;
+
+/* Four floats (and ints) as one SIMD value, for the builders' box arithmetic: the GCC/Clang
+ * vector extension here, float4 and int4 in OpenCL. Lanes are read with lt_v4_lane. */
+typedef float lt_v4 __attribute__((vector_size(16)));
+typedef int32_t lt_vi4 __attribute__((vector_size(16)));
+#define lt_v4_lane(v, i) ((v)[i])
+#define lt_v4_make(a, b, c, d) ((lt_v4){(a), (b), (c), (d)})
+#define lt_v4_splat(a) ((lt_v4){(a), (a), (a), (a)})
+#define lt_v4_to_int(v) __builtin_convertvector((v), lt_vi4) /* toward zero, like (int) */
+#if defined(__SSE__)
+#include <xmmintrin.h>
+/* a < b ? a : b and a > b ? a : b per lane, as the scalar code writes them. */
+static inline lt_v4 lt_v4_min(lt_v4 a, lt_v4 b) { return (lt_v4)_mm_min_ps((__m128)a, (__m128)b); }
+static inline lt_v4 lt_v4_max(lt_v4 a, lt_v4 b) { return (lt_v4)_mm_max_ps((__m128)a, (__m128)b); }
+#else
+static inline lt_v4 lt_v4_min(lt_v4 a, lt_v4 b) {
+  lt_vi4 m = a < b;
+  return (lt_v4)((m & (lt_vi4)a) | (~m & (lt_vi4)b));
+}
+static inline lt_v4 lt_v4_max(lt_v4 a, lt_v4 b) {
+  lt_vi4 m = a > b;
+  return (lt_v4)((m & (lt_vi4)a) | (~m & (lt_vi4)b));
+}
+#endif
 #define lt_make_int4(a, b, c, d) ((lt_int4){(a), (b), (c), (d)})
 #define lt_make_float4(a, b, c, d) ((lt_float4){(a), (b), (c), (d)})
 typedef int32_t lt_i32;

@@ -21,6 +21,17 @@ typedef int4 lt_int4;
 typedef uint lt_u32;
 typedef int lt_i32;
 
+/* Four floats (and ints) as one SIMD value (see compat_native.h). */
+typedef float4 lt_v4;
+typedef int4 lt_vi4;
+#define lt_v4_lane(v, i) ((i) == 0 ? (v).x : (i) == 1 ? (v).y : (i) == 2 ? (v).z : (v).w)
+#define lt_v4_make(a, b, c, d) ((float4)((a), (b), (c), (d)))
+#define lt_v4_splat(a) ((float4)(a))
+#define lt_v4_to_int(v) convert_int4_rtz(v)
+/* a < b ? a : b and a > b ? a : b per lane, as the scalar code writes them. */
+LT_DEVICE float4 lt_v4_min(float4 a, float4 b) { return select(b, a, a < b); }
+LT_DEVICE float4 lt_v4_max(float4 a, float4 b) { return select(b, a, a > b); }
+
 #define lt_make_int4(a, b, c, d) ((int4)((a), (b), (c), (d)))
 #define lt_make_float4(a, b, c, d) ((float4)((a), (b), (c), (d)))
 

@@ -14,14 +14,16 @@
  * by one work-item. Tests set it to 0 to take that path always. */
 int lt__ondemand_slab_count = 64;
 
-/* Each triangle's box (written where `boxes` points) and the root's bounds. */
+/* Each triangle's box (written where `boxes` points, 8 floats: lo xyz 0, hi xyz 0) and the
+ * root's bounds. */
 static void triangle_boxes(const lt_scene *scene, float *boxes, lt_box *bounds, lt_box *cbounds) {
   *bounds = *cbounds = lt_box_empty();
   for (size_t i = 0; i < scene->count; i++) {
     lt_box box;
     float c[3];
     lt_tri_bounds(scene->tris + 9 * i, &box, c);
-    for (int k = 0; k < 3; k++) boxes[6 * i + k] = box.lo[k], boxes[6 * i + 3 + k] = box.hi[k];
+    for (int k = 0; k < 3; k++) boxes[8 * i + k] = box.lo[k], boxes[8 * i + 4 + k] = box.hi[k];
+    boxes[8 * i + 3] = boxes[8 * i + 7] = 0.0f;
     lt_box cb = {{c[0], c[1], c[2]}, {c[0], c[1], c[2]}};
     lt_box_grow(bounds, &box);
     lt_box_grow(cbounds, &cb);
@@ -46,7 +48,7 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
   lt_box bounds, cbounds;
   lt_status status = lt__pool_create(ctx, &config, mode, &od->pool);
   if (!status) status = lt__buffer_wrap(ctx, &od->verts, scene->tris, n * 9 * sizeof(float));
-  if (!status) status = lt__buffer_create(ctx, &od->prim_boxes, n * 6 * sizeof(float), NULL, LT_BUFFER_UNINIT);
+  if (!status) status = lt__buffer_create(ctx, &od->prim_boxes, n * 8 * sizeof(float), NULL, LT_BUFFER_UNINIT);
   if (!status) status = lt__buffer_create(ctx, &od->index, n * 4, NULL, LT_BUFFER_UNINIT);
   if (!status) {
     float *boxes = lt__buffer_begin_write(ctx, &od->prim_boxes);
