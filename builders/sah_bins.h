@@ -90,10 +90,12 @@ LT_DEVICE lt_box lt_box_of4(lt_v4 lo, lt_v4 hi) {
   return b;
 }
 
-/* Surface area of a box given as two vectors, computed as lt_box_area does. */
+/* Surface area of a box given as two vectors; the same float as lt_box_area (an extent is
+ * hi - lo where hi > lo, else 0, and max(hi - lo, 0) is that, empty boxes included). */
 LT_DEVICE float lt_area4(lt_v4 lo, lt_v4 hi) {
-  lt_box b = lt_box_of4(lo, hi);
-  return lt_box_area(&b);
+  lt_v4 d = lt_v4_max(hi - lo, lt_v4_splat(0.0f));
+  float x = lt_v4_lane(d, 0), y = lt_v4_lane(d, 1), z = lt_v4_lane(d, 2);
+  return 2.0f * (x * y + y * z + z * x);
 }
 
 /* The bin scale as a vector (w = 0). */
