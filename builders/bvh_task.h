@@ -1,6 +1,6 @@
 /* BVH node subdivision as task-pool tasks: the on-demand paper (Vinkler et al. 2016), section
  * 3.4. A task subdivides the node behind one child link: binned SAH split (chunked, bins merged
- * in a global slab), stable partition (count, scatter, copy back), bounding boxes when SAH
+ * in a global slab), stable partition (count, scatter), bounding boxes when SAH
  * finds no split and the object median is used; then it writes the new node, inserts tasks for
  * its children and links the node into its parent. Nodes small enough for one chunk do all of
  * that in one go. The same code makes full, requested and speculative builds. */
@@ -23,8 +23,7 @@
 #define LT_BVH_BIN 2     /* chunks bin into the slab */
 #define LT_BVH_COUNT 3   /* chunks count their left-hand primitives */
 #define LT_BVH_SCATTER 4 /* chunks write both sides in order */
-#define LT_BVH_COPY 5    /* chunks copy back */
-#define LT_BVH_BOXES 6   /* object median: chunks bound both halves */
+#define LT_BVH_BOXES 5   /* object median: chunks bound both halves and move them over */
 
 /* Task data (lt_task.work). */
 #define W_CBOUNDS 0 /* 6 floats: centroid bounds */
@@ -46,7 +45,7 @@ typedef struct lt_bvh_build {
   LT_GLOBAL const lt_v4 *prim_boxes; /* 2 per triangle: lo, hi (lanes x y z; computed once) */
   LT_GLOBAL lt_i32 *side;        /* per position: 0 left, 1 right of the split (COUNT to SCATTER) */
   LT_GLOBAL lt_i32 *index;       /* primitive references, permuted into leaf order */
-  LT_GLOBAL lt_i32 *scratch;     /* room for the partition */
+  LT_GLOBAL lt_i32 *scratch;     /* the other half of the ping-pong (lt_bvh_refs) */
   LT_GLOBAL lt_i32 *chunk_left;  /* at each chunk's first position: its left-hand count, then
                                   * the left-hand count of the chunks before it */
   LT_GLOBAL lt_bvh_node *nodes;
@@ -68,6 +67,18 @@ LT_DEVICE lt_box lt_load_box(LT_GLOBAL const lt_i32 *w) {
   lt_box box;
   for (int k = 0; k < 3; k++) box.lo[k] = lt_int_as_float(w[k]), box.hi[k] = lt_int_as_float(w[3 + k]);
   return box;
+}
+
+/* Partitions ping-pong: the references of a node at an even depth lie in index, at an odd
+ * depth in scratch, so that a partition writes its children's straight into the other array
+ * and nothing is copied back. A leaf at an odd depth moves its own few into index, where
+ * traversal reads them. */
+LT_DEVICE LT_GLOBAL lt_i32 *lt_bvh_refs(const lt_bvh_build *b, lt_i32 depth) {
+  return (depth & 1) ? b->scratch : b->index;
+}
+LT_DEVICE void lt_bvh_leaf_refs(const lt_bvh_build *b, lt_i32 depth, lt_i32 begin, lt_i32 end) {
+  if (depth & 1)
+    for (lt_i32 i = begin; i < end; i++) b->index[i] = b->scratch[i];
 }
 
 /* Writes one child of a node: its box and its link (already final or still unbuilt). */
@@ -102,6 +113,7 @@ LT_DEVICE void lt_bvh_spawn(const lt_bvh_build *b, lt_i32 node, int side, lt_i32
   LT_GLOBAL lt_bvh_node *n = &b->nodes[node];
   lt_i32 count = end - begin;
   if (count == 1) {
+    lt_bvh_leaf_refs(b, depth, begin, end);
     lt_bvh_set_child(n, side, bounds, begin, 1);
     lt_bvh_count(b, LT_BVH_STAT_LEAVES, 1);
     return;
@@ -137,6 +149,7 @@ LT_DEVICE void lt_bvh_finish_split(const lt_bvh_build *b, lt_i32 slot, lt_i32 le
 LT_DEVICE void lt_bvh_finish_leaf(const lt_bvh_build *b, lt_i32 slot) {
   LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
   lt_bvh_count(b, LT_BVH_STAT_LEAVES, 1);
+  lt_bvh_leaf_refs(b, task->depth, task->begin, task->end);
   lt_bvh_link(b, lt_atomic_load_i32(&task->node), task->begin, task->end - task->begin);
   lt_pool_retire(&b->pool, slot);
 }
@@ -146,12 +159,12 @@ LT_DEVICE void lt_bvh_finish_leaf(const lt_bvh_build *b, lt_i32 slot) {
 #define LT_PREFETCH 16
 
 /* Bins the primitives at positions lo, lo + step, ... below hi into private bins. */
-LT_DEVICE void lt_bvh_bin_range(const lt_bvh_build *b, lt_i32 lo, lt_i32 hi, lt_i32 step, const lt_box *cbounds,
-                                lt_bins *bins) {
+LT_DEVICE void lt_bvh_bin_range(const lt_bvh_build *b, LT_GLOBAL const lt_i32 *refs, lt_i32 lo, lt_i32 hi,
+                                lt_i32 step, const lt_box *cbounds, lt_bins *bins) {
   lt_v4 clo = lt_box_lo4(cbounds), scale = lt_bin_scale4(cbounds, b->bins);
   for (lt_i32 i = lo; i < hi; i += step) {
-    if (i + LT_PREFETCH * step < hi) lt_prefetch(b->prim_boxes + 2 * (long)b->index[i + LT_PREFETCH * step]);
-    LT_GLOBAL const lt_v4 *box = b->prim_boxes + 2 * (long)b->index[i];
+    if (i + LT_PREFETCH * step < hi) lt_prefetch(b->prim_boxes + 2 * (long)refs[i + LT_PREFETCH * step]);
+    LT_GLOBAL const lt_v4 *box = b->prim_boxes + 2 * (long)refs[i];
     lt_bins_add(bins, clo, scale, b->bins, box[0], box[1]);
   }
 }
@@ -161,11 +174,11 @@ typedef struct lt_bvh_sides {
   lt_box box[2], cbox[2];
 } lt_bvh_sides;
 
-/* Notes in side[] which side of split (axis * 64 + bin) each primitive of index[lo, hi) goes
+/* Notes in side[] which side of split (axis * 64 + bin) each primitive of refs[lo, hi) goes
  * to, 0 left or 1 right, as binning put it, and returns how many go left; bounds both sides'
  * centroids, and their boxes too when `boxes` is set. */
-LT_DEVICE lt_i32 lt_bvh_sides_of(const lt_bvh_build *b, lt_i32 lo, lt_i32 hi, lt_i32 split, const lt_box *cbounds,
-                                 int boxes, lt_bvh_sides *out) {
+LT_DEVICE lt_i32 lt_bvh_sides_of(const lt_bvh_build *b, LT_GLOBAL const lt_i32 *refs, lt_i32 lo, lt_i32 hi,
+                                 lt_i32 split, const lt_box *cbounds, int boxes, lt_bvh_sides *out) {
   int axis = split >> 6, bin = split & 63;
   float scale[3];
   lt_bin_scale(cbounds, b->bins, scale);
@@ -174,8 +187,8 @@ LT_DEVICE lt_i32 lt_bvh_sides_of(const lt_bvh_build *b, lt_i32 lo, lt_i32 hi, lt
   lt_v4 llo = inf, lhi = ninf, rlo = inf, rhi = ninf, lclo = inf, lchi = ninf, rclo = inf, rchi = ninf;
   lt_i32 left = 0;
   for (lt_i32 i = lo; i < hi; i++) {
-    if (i + LT_PREFETCH < hi) lt_prefetch(b->prim_boxes + 2 * (long)b->index[i + LT_PREFETCH]);
-    LT_GLOBAL const lt_v4 *box = b->prim_boxes + 2 * (long)b->index[i];
+    if (i + LT_PREFETCH < hi) lt_prefetch(b->prim_boxes + 2 * (long)refs[i + LT_PREFETCH]);
+    LT_GLOBAL const lt_v4 *box = b->prim_boxes + 2 * (long)refs[i];
     lt_v4 plo = box[0], phi = box[1], c = (plo + phi) * 0.5f;
     int side = lt_bin_of(lt_v4_lane(c, axis), clo, s, b->bins) > bin;
     b->side[i] = side;
@@ -193,11 +206,12 @@ LT_DEVICE lt_i32 lt_bvh_sides_of(const lt_bvh_build *b, lt_i32 lo, lt_i32 hi, lt
   return left;
 }
 
-/* Bounds and centroid bounds of index[lo, hi). */
-LT_DEVICE void lt_bvh_bound_range(const lt_bvh_build *b, lt_i32 lo, lt_i32 hi, lt_box *box, lt_box *cbox) {
+/* Bounds and centroid bounds of refs[lo, hi). */
+LT_DEVICE void lt_bvh_bound_range(const lt_bvh_build *b, LT_GLOBAL const lt_i32 *refs, lt_i32 lo, lt_i32 hi,
+                                  lt_box *box, lt_box *cbox) {
   lt_v4 blo = lt_v4_splat(INFINITY), bhi = lt_v4_splat(-INFINITY), clo = blo, chi = bhi;
   for (lt_i32 i = lo; i < hi; i++) {
-    LT_GLOBAL const lt_v4 *p = b->prim_boxes + 2 * (long)b->index[i];
+    LT_GLOBAL const lt_v4 *p = b->prim_boxes + 2 * (long)refs[i];
     lt_v4 plo = p[0], phi = p[1], c = (plo + phi) * 0.5f;
     blo = lt_v4_min(plo, blo), bhi = lt_v4_max(phi, bhi);
     clo = lt_v4_min(c, clo), chi = lt_v4_max(c, chi);
@@ -216,15 +230,16 @@ LT_DEVICE void lt_slab_grow_box(LT_GLOBAL lt_i32 *slab, int i, const lt_box *box
 /* Splits a node in one go on work-item 0 (a node of at most LT_BVH_CHUNK primitives, or a
  * larger one that found no free bin slab): bins it (a sample of a large one), prices the
  * splits, notes each primitive's side while bounding both sides, and partitions in order
- * through the scratch array. Returns 0 when the node is a leaf; else the split, with exact
- * boxes and counts, and its middle in *mid. */
+ * into the other array of the ping-pong. Returns 0 when the node is a leaf; else the split,
+ * with exact boxes and counts, and its middle in *mid. */
 LT_DEVICE int lt_bvh_split_small(const lt_bvh_build *b, lt_i32 begin, lt_i32 end, lt_i32 depth, const lt_box *bounds,
                                  const lt_box *cbounds, lt_split *s, lt_i32 *mid) {
   lt_i32 n = end - begin;
+  LT_GLOBAL lt_i32 *src = lt_bvh_refs(b, depth), *dst = lt_bvh_refs(b, depth + 1);
   lt_bins bins;
   lt_bins_clear(&bins);
   lt_i32 step = lt_bin_step(n);
-  lt_bvh_bin_range(b, begin, end, step, cbounds, &bins);
+  lt_bvh_bin_range(b, src, begin, end, step, cbounds, &bins);
   *s = lt_sah_best_split(&bins, b->bins, bounds, b->traversal_cost, b->intersection_cost);
   lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)lt_bin_sample_count(n));
   if (lt_sah_make_leaf(n, depth, s, b->max_leaf, b->intersection_cost, LT_BVH_MAX_DEPTH)) return 0;
@@ -232,21 +247,21 @@ LT_DEVICE int lt_bvh_split_small(const lt_bvh_build *b, lt_i32 begin, lt_i32 end
   /* Object median when SAH found no split: the halves keep their order. */
   if (s->axis < 0) {
     *mid = begin + n / 2;
-    lt_bvh_bound_range(b, begin, *mid, &s->left, &s->cleft);
-    lt_bvh_bound_range(b, *mid, end, &s->right, &s->cright);
+    lt_bvh_bound_range(b, src, begin, *mid, &s->left, &s->cleft);
+    lt_bvh_bound_range(b, src, *mid, end, &s->right, &s->cright);
+    for (lt_i32 i = begin; i < end; i++) dst[i] = src[i];
     return 1;
   }
 
   /* Sides and exact bounds (the bins saw only a sample of a large node), then a stable
-   * partition through the scratch array. */
+   * partition. */
   lt_bvh_sides sides;
-  s->left_count = lt_bvh_sides_of(b, begin, end, s->axis * 64 + s->bin, cbounds, 1, &sides);
+  s->left_count = lt_bvh_sides_of(b, src, begin, end, s->axis * 64 + s->bin, cbounds, 1, &sides);
   s->left = sides.box[0], s->right = sides.box[1], s->cleft = sides.cbox[0], s->cright = sides.cbox[1];
   for (lt_i32 i = begin, left = begin, right = begin + s->left_count; i < end; i++) {
-    if (b->side[i]) b->scratch[right++] = b->index[i];
-    else b->scratch[left++] = b->index[i];
+    if (b->side[i]) dst[right++] = src[i];
+    else dst[left++] = src[i];
   }
-  for (lt_i32 i = begin; i < end; i++) b->index[i] = b->scratch[i];
   lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)n);
   *mid = begin + s->left_count;
   return 1;
@@ -288,6 +303,7 @@ LT_DEVICE void lt_bvh_subtree(const lt_bvh_build *b, lt_i32 slot) {
       stack[top++] = right;
     } else {
       link = cur.begin, count = cur.end - cur.begin;
+      lt_bvh_leaf_refs(b, cur.depth, cur.begin, cur.end);
       lt_bvh_count(b, LT_BVH_STAT_LEAVES, 1);
     }
     if (cur.address == root_address) root_link = link, root_count = count;
@@ -331,13 +347,14 @@ LT_DEVICE lt_i32 lt_bvh_take_slab(const lt_bvh_build *b) {
   return -1;
 }
 
-/* One chunk of the current phase. Work-items share BIN and COPY; the others run on item 0. */
+/* One chunk of the current phase. Work-items share BIN; the others run on item 0. */
 LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, int lid, int lsize) {
   LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
   lt_i32 begin = task->begin, end = task->end, phase = task->phase;
   lt_i32 lo = begin + chunk * LT_BVH_CHUNK, hi = lo + LT_BVH_CHUNK < end ? lo + LT_BVH_CHUNK : end;
   lt_box cbounds = lt_load_box(task->work + W_CBOUNDS);
   LT_GLOBAL lt_i32 *slab = b->slabs + (lt_i32)task->work[W_SLAB] * LT_BVH_SLAB_SIZE;
+  LT_GLOBAL lt_i32 *src = lt_bvh_refs(b, task->depth), *dst = lt_bvh_refs(b, task->depth + 1);
 
   if (phase == LT_BVH_BIN) {
     /* This chunk's part of the sample: sample j is the primitive at begin + j * step. */
@@ -345,12 +362,8 @@ LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, in
     lt_i32 j0 = chunk * LT_BVH_CHUNK, j1 = j0 + LT_BVH_CHUNK < samples ? j0 + LT_BVH_CHUNK : samples;
     lt_bins bins;
     lt_bins_clear(&bins);
-    lt_bvh_bin_range(b, begin + (j0 + lid) * step, begin + j1 * step, lsize * step, &cbounds, &bins);
+    lt_bvh_bin_range(b, src, begin + (j0 + lid) * step, begin + j1 * step, lsize * step, &cbounds, &bins);
     lt_bins_merge_global(slab, &bins);
-    return;
-  }
-  if (phase == LT_BVH_COPY) {
-    for (lt_i32 i = lo + lid; i < hi; i += lsize) b->index[i] = b->scratch[i];
     return;
   }
   /* SMALL and INIT have one chunk, whose work lt_bvh_end_phase does: a chunk must never
@@ -360,7 +373,7 @@ LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, in
     /* Each primitive's side, the left-hand count, and both sides' centroid boxes for the
      * children; their boxes too when binning saw only a sample (otherwise the bins had them). */
     lt_bvh_sides sides;
-    b->chunk_left[lo] = lt_bvh_sides_of(b, lo, hi, task->work[W_SPLIT], &cbounds, lt_bin_step(end - begin) > 1, &sides);
+    b->chunk_left[lo] = lt_bvh_sides_of(b, src, lo, hi, task->work[W_SPLIT], &cbounds, lt_bin_step(end - begin) > 1, &sides);
     for (int side = 0; side < 2; side++) {
       lt_slab_grow_box(slab, 2 * side, &sides.box[side]);
       lt_slab_grow_box(slab, 2 * side + 1, &sides.cbox[side]);
@@ -370,16 +383,18 @@ LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, in
     lt_i32 before = b->chunk_left[lo];
     lt_i32 left = begin + before, right = begin + task->work[W_LEFT] + (lo - begin - before);
     for (lt_i32 i = lo; i < hi; i++) {
-      lt_i32 p = b->index[i];
-      if (b->side[i]) b->scratch[right++] = p;
-      else b->scratch[left++] = p;
+      lt_i32 p = src[i];
+      if (b->side[i]) dst[right++] = p;
+      else dst[left++] = p;
     }
   } else if (phase == LT_BVH_BOXES) {
-    /* Both halves of the object median, merged into the slab's first four boxes. */
+    /* Both halves of the object median, merged into the slab's first four boxes, and moved
+     * to the other array as they are. */
     lt_i32 mid = begin + task->work[W_LEFT];
     lt_box box[2], cbox[2];
-    lt_bvh_bound_range(b, lo, hi < mid ? hi : mid, &box[0], &cbox[0]);
-    lt_bvh_bound_range(b, lo > mid ? lo : mid, hi, &box[1], &cbox[1]);
+    lt_bvh_bound_range(b, src, lo, hi < mid ? hi : mid, &box[0], &cbox[0]);
+    lt_bvh_bound_range(b, src, lo > mid ? lo : mid, hi, &box[1], &cbox[1]);
+    for (lt_i32 i = lo; i < hi; i++) dst[i] = src[i];
     for (int side = 0; side < 2; side++) {
       lt_slab_grow_box(slab, 2 * side, &box[side]);
       lt_slab_grow_box(slab, 2 * side + 1, &cbox[side]);
@@ -468,11 +483,9 @@ LT_DEVICE void lt_bvh_end_phase(const lt_bvh_build *b, lt_i32 slot) {
     }
     task->work[W_LEFT] = left;
     lt_pool_next_phase(&b->pool, slot, LT_BVH_SCATTER, chunks);
-  } else if (phase == LT_BVH_SCATTER) {
-    lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)n);
-    lt_pool_next_phase(&b->pool, slot, LT_BVH_COPY, chunks);
   } else {
-    /* COPY or BOXES done: the children's boxes are in the slab. */
+    /* SCATTER or BOXES done: the children's boxes are in the slab. */
+    if (phase == LT_BVH_SCATTER) lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)n);
     lt_box left = lt_slab_box(slab, 0), cleft = lt_slab_box(slab, 1);
     lt_box right = lt_slab_box(slab, 2), cright = lt_slab_box(slab, 3);
     lt_i32 left_end = begin + task->work[W_LEFT];
