@@ -170,7 +170,7 @@ LT_DEVICE lt_i32 lt_pool_insert(const lt_pool *pool, lt_i32 node, lt_i32 begin, 
   lt_atomic_store_i32(&task->chunks, chunks);
   lt_atomic_store_i32(&task->flags, 0);
   lt_atomic_store_i32(&task->done, 0);
-  for (int k = 0; k < 16; k++) lt_atomic_store_i32(&task->work[k], 0);
+  for (int k = 0; k < 16; k++) task->work[k] = 0; /* published with the header, like the rest */
   lt_atomic_add_i32(&pool->control->outstanding, 1);
   return slot;
 }

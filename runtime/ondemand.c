@@ -14,20 +14,47 @@
  * by one work-item. Tests set it to 0 to take that path always. */
 int lt__ondemand_slab_count = 64;
 
-/* Each triangle's box (written where `boxes` points, 8 floats: lo xyz 0, hi xyz 0) and the
- * root's bounds. */
-static void triangle_boxes(const lt_scene *scene, float *boxes, lt_box *bounds, lt_box *cbounds) {
-  *bounds = *cbounds = lt_box_empty();
-  for (size_t i = 0; i < scene->count; i++) {
+#define MAX_BOX_THREADS 64
+
+/* Each triangle's box, written where `boxes` points (8 floats: lo xyz 0, hi xyz 0), by one
+ * host thread per slice of the scene, each bounding its slice. */
+typedef struct box_job {
+  const lt_scene *scene;
+  float *boxes;
+  int threads;
+  lt_box bounds[MAX_BOX_THREADS], cbounds[MAX_BOX_THREADS];
+} box_job;
+
+static void box_slice(void *arg) {
+  box_job *job = arg;
+  int t = lt__native_group_id;
+  size_t n = job->scene->count, begin = n * t / job->threads, end = n * (t + 1) / job->threads;
+  lt_box bounds = lt_box_empty(), cbounds = lt_box_empty();
+  float *boxes = job->boxes;
+  for (size_t i = begin; i < end; i++) {
     lt_box box;
     float c[3];
-    lt_tri_bounds(scene->tris + 9 * i, &box, c);
+    lt_tri_bounds(job->scene->tris + 9 * i, &box, c);
     for (int k = 0; k < 3; k++) boxes[8 * i + k] = box.lo[k], boxes[8 * i + 4 + k] = box.hi[k];
     boxes[8 * i + 3] = boxes[8 * i + 7] = 0.0f;
     lt_box cb = {{c[0], c[1], c[2]}, {c[0], c[1], c[2]}};
-    lt_box_grow(bounds, &box);
-    lt_box_grow(cbounds, &cb);
+    lt_box_grow(&bounds, &box);
+    lt_box_grow(&cbounds, &cb);
   }
+  job->bounds[t] = bounds, job->cbounds[t] = cbounds;
+}
+
+/* The boxes and the root's bounds and centroid bounds. */
+static lt_status triangle_boxes(const lt_scene *scene, float *boxes, lt_box *bounds, lt_box *cbounds) {
+  box_job job;
+  int threads = lt__native_threads();
+  job.scene = scene, job.boxes = boxes;
+  job.threads = threads < 1 ? 1 : threads > MAX_BOX_THREADS ? MAX_BOX_THREADS : threads;
+  if (scene->count < 65536) job.threads = 1;
+  lt_status status = lt__native_run(job.threads, box_slice, &job);
+  *bounds = *cbounds = lt_box_empty();
+  for (int t = 0; !status && t < job.threads; t++) lt_box_grow(bounds, &job.bounds[t]), lt_box_grow(cbounds, &job.cbounds[t]);
+  return status;
 }
 
 static lt_status warm_up_launch(void *user, lt__buffer *scratch);
@@ -53,11 +80,9 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
   if (!status) {
     float *boxes = lt__buffer_begin_write(ctx, &od->prim_boxes);
     int *index = lt__buffer_begin_write(ctx, &od->index);
-    if (boxes && index) {
-      triangle_boxes(scene, boxes, &bounds, &cbounds);
-      for (int i = 0; i < od->count; i++) index[i] = i;
-    }
     status = boxes && index ? LT_OK : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for %zu triangles", n);
+    if (!status) status = triangle_boxes(scene, boxes, &bounds, &cbounds);
+    for (int i = 0; !status && i < od->count; i++) index[i] = i;
     if (!status) status = lt__buffer_end_write(ctx, &od->prim_boxes, boxes);
     if (!status) status = lt__buffer_end_write(ctx, &od->index, index);
   }
