@@ -11,7 +11,8 @@ cd "$(dirname "$0")/.."
 lt_bench_prepare
 B=build/benchmarks/bench_ondemand
 header() {
-  echo "- command: \`benchmarks/ondemand.sh $*\` (native backend, $(nproc) work-groups; Embree with as many threads)"
+  echo "- command: \`benchmarks/ondemand.sh $*\` (native backend, $(nproc) work-groups; Embree with as many threads;"
+  echo "  the LBVH is built on the host on one thread, then traced by the native trace kernel)"
   echo "- commit: $(lt_commit)"
   echo "- machine: $(lt_machine)"
   echo "- Embree $(dpkg-query -W -f='${Version}' libembree-dev 2>/dev/null || echo 'not installed') (robust flag); date $(date -u +%Y-%m-%d)"
