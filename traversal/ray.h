@@ -18,6 +18,7 @@
 #define LT_FLOAT_MAX 3.40282347e+38f
 
 typedef struct lt_ray_setup {
+  lt_v4 org4, inv4; /* org and inv_dir as vectors (w = 0), for lt_ray_slabs */
   float org[3];
   float dir[3];
   float inv_dir[3]; /* 1/dir, at most LT_FLOAT_MAX in magnitude; unused where dir is 0 */
@@ -25,6 +26,7 @@ typedef struct lt_ray_setup {
   int kx, ky, kz;   /* axes permuted so that kz has the largest |dir| */
   float sx, sy, sz; /* shear constants */
   int valid;        /* 0 for NaN or infinite components, a zero direction or tmin > tmax */
+  int parallel;     /* some direction component is 0 (or -0) */
   int flags;        /* LT_QUERY_FLAG_* */
 } lt_ray_setup;
 
@@ -44,6 +46,9 @@ LT_DEVICE lt_ray_setup lt_ray_prepare(float ox, float oy, float oz, float tmin, 
     float inv = r.dir[k] != 0.0f ? 1.0f / r.dir[k] : 0.0f;
     r.inv_dir[k] = inv > LT_FLOAT_MAX ? LT_FLOAT_MAX : inv < -LT_FLOAT_MAX ? -LT_FLOAT_MAX : inv;
   }
+  r.org4 = lt_v4_make(ox, oy, oz, 0.0f);
+  r.inv4 = lt_v4_make(r.inv_dir[0], r.inv_dir[1], r.inv_dir[2], 0.0f);
+  r.parallel = dx == 0.0f || dy == 0.0f || dz == 0.0f;
 
   /* kz is the dimension where |dir| is largest; swapping kx and ky keeps the winding. */
   float ax = fabs(dx), ay = fabs(dy), az = fabs(dz);
@@ -73,6 +78,22 @@ LT_DEVICE lt_ray_setup lt_ray_prepare(float ox, float oy, float oz, float tmin, 
 LT_DEVICE int lt_ray_slabs(const lt_ray_setup *r, const float lo[3], const float hi[3], int widen, float *t_near,
                            float *t_far) {
   float near_t = -INFINITY, far_t = INFINITY;
+  if (!r->parallel) {
+    /* The loop below for a ray parallel to no slab, three axes at once: every lane computes
+     * the same floats, and the intervals meet in the same order. */
+    lt_v4 lo4 = lt_v4_make(lo[0], lo[1], lo[2], 0.0f), hi4 = lt_v4_make(hi[0], hi[1], hi[2], 0.0f);
+    lt_v4 t0 = (lo4 - r->org4) * r->inv4, t1 = (hi4 - r->org4) * r->inv4;
+    lt_v4 t_lo = lt_v4_min(t0, t1), t_hi = lt_v4_max(t1, t0);
+    for (int k = 0; k < 3; k++) {
+      float l = lt_v4_lane(t_lo, k), h = lt_v4_lane(t_hi, k);
+      near_t = l > near_t ? l : near_t;
+      far_t = h < far_t ? h : far_t;
+    }
+    if (widen) far_t += fabs(far_t) * LT_SLAB_ROUNDING_EPS;
+    *t_near = near_t;
+    *t_far = far_t;
+    return 1;
+  }
   for (int k = 0; k < 3; k++) {
     /* Parallel to this slab: inside it everywhere or nowhere, decided exactly. */
     if (r->dir[k] == 0.0f) {
