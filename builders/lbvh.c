@@ -48,6 +48,10 @@ typedef struct builder {
   lt__bvh *bvh;
 } builder;
 
+/* min and max as comparisons: the scene holds no NaN, and fminf/fmaxf are library calls here. */
+static float min_f(float a, float b) { return a < b ? a : b; }
+static float max_f(float a, float b) { return a > b ? a : b; }
+
 static box box_empty(void) {
   box b = {{FLT_MAX, FLT_MAX, FLT_MAX}, {-FLT_MAX, -FLT_MAX, -FLT_MAX}};
   return b;
@@ -62,7 +66,7 @@ static void box_grow(box *b, const box *o) {
 
 static float box_area(const box *b) {
   float d[3];
-  for (int k = 0; k < 3; k++) d[k] = fmaxf(b->hi[k] - b->lo[k], 0.0f);
+  for (int k = 0; k < 3; k++) d[k] = max_f(b->hi[k] - b->lo[k], 0.0f);
   return 2.0f * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
 }
 
@@ -325,8 +329,8 @@ static void build_all(const float *tris, size_t n, const lt__sah_config *config,
     const float *t = tris + 9 * i;
     box *pb = &s->prim_box[i];
     for (int k = 0; k < 3; k++) {
-      pb->lo[k] = fminf(t[k], fminf(t[3 + k], t[6 + k]));
-      pb->hi[k] = fmaxf(t[k], fmaxf(t[3 + k], t[6 + k]));
+      pb->lo[k] = min_f(t[k], min_f(t[3 + k], t[6 + k]));
+      pb->hi[k] = max_f(t[k], max_f(t[3 + k], t[6 + k]));
       float c = 0.5f * (pb->lo[k] + pb->hi[k]);
       cbounds.lo[k] = c < cbounds.lo[k] ? c : cbounds.lo[k];
       cbounds.hi[k] = c > cbounds.hi[k] ? c : cbounds.hi[k];
