@@ -18,7 +18,9 @@
 #define LT_FLOAT_MAX 3.40282347e+38f
 
 typedef struct lt_ray_setup {
+#if LT_VECTOR_SLABS
   lt_v4 org4, inv4; /* org and inv_dir as vectors (w = 0), for lt_ray_slabs */
+#endif
   float org[3];
   float dir[3];
   float inv_dir[3]; /* 1/dir, at most LT_FLOAT_MAX in magnitude; unused where dir is 0 */
@@ -46,8 +48,10 @@ LT_DEVICE lt_ray_setup lt_ray_prepare(float ox, float oy, float oz, float tmin, 
     float inv = r.dir[k] != 0.0f ? 1.0f / r.dir[k] : 0.0f;
     r.inv_dir[k] = inv > LT_FLOAT_MAX ? LT_FLOAT_MAX : inv < -LT_FLOAT_MAX ? -LT_FLOAT_MAX : inv;
   }
+#if LT_VECTOR_SLABS
   r.org4 = lt_v4_make(ox, oy, oz, 0.0f);
   r.inv4 = lt_v4_make(r.inv_dir[0], r.inv_dir[1], r.inv_dir[2], 0.0f);
+#endif
   r.parallel = dx == 0.0f || dy == 0.0f || dz == 0.0f;
 
   /* kz is the dimension where |dir| is largest; swapping kx and ky keeps the winding. */
@@ -78,6 +82,7 @@ LT_DEVICE lt_ray_setup lt_ray_prepare(float ox, float oy, float oz, float tmin, 
 LT_DEVICE int lt_ray_slabs(const lt_ray_setup *r, const float lo[3], const float hi[3], int widen, float *t_near,
                            float *t_far) {
   float near_t = -INFINITY, far_t = INFINITY;
+#if LT_VECTOR_SLABS
   if (!r->parallel) {
     /* The loop below for a ray parallel to no slab, three axes at once: every lane computes
      * the same floats, and the intervals meet in the same order. */
@@ -94,6 +99,7 @@ LT_DEVICE int lt_ray_slabs(const lt_ray_setup *r, const float lo[3], const float
     *t_far = far_t;
     return 1;
   }
+#endif
   for (int k = 0; k < 3; k++) {
     /* Parallel to this slab: inside it everywhere or nowhere, decided exactly. */
     if (r->dir[k] == 0.0f) {
