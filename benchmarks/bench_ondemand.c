@@ -64,13 +64,18 @@ static int run_method(const lt_scene *scene, int method, const batch *batches, i
   }
   lt_structure_config config = lt_bench_method_config(method);
   lt_stats *stats;
-  lt_structure *s;
+  lt_structure *s = NULL;
   lt_stats_create(&stats);
   lt_status status = lt_structure_create(native_context(), scene, &config, stats, &s);
   for (int b = 0; !status && b < nbatches; b++)
     status = lt_structure_trace(s, batches[b].rays, batches[b].count, batches[b].any ? LT_QUERY_ANY : LT_QUERY_CLOSEST,
                                 hits, stats);
-  if (status) return fprintf(stderr, "%s: %s\n", lt_bench_method_names[method], lt_last_error()), 1;
+  if (status) {
+    fprintf(stderr, "%s: %s\n", lt_bench_method_names[method], lt_last_error());
+    lt_structure_destroy(s);
+    lt_stats_destroy(stats);
+    return 1;
+  }
   f->total[run] = lt_stats_get(stats, "total_ms");
   f->build[run] = lt_stats_get(stats, "build_ms");
   f->trace[run] = lt_stats_get(stats, "trace_ms");

@@ -16,6 +16,7 @@
 
 #include "render/render_internal.h"
 #include "scenes/ray_offset.h"
+#include "scenes/splitmix.h"
 
 #define PI 3.14159265358979f
 
@@ -44,18 +45,9 @@ void lt__batch_free(lt__batch *batch) {
   memset(batch, 0, sizeof *batch);
 }
 
-uint64_t lt__path_rng_next(uint64_t *state) {
-  uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
-
-float lt__path_rng_uniform(uint64_t *state) { return (lt__path_rng_next(state) >> 40) * (1.0f / 16777216.0f); }
-
 uint64_t lt__path_rng_mix(uint64_t state, uint64_t index) {
   uint64_t s = state ^ (index * 0xd1b54a32d192ed03ull);
-  return lt__path_rng_next(&s);
+  return lt__splitmix_next(&s);
 }
 
 /* ---- Vectors ---- */
@@ -81,7 +73,7 @@ static void cosine_direction(const float n[3], uint64_t *rng, float out[3]) {
   cross(a, n, b1);
   normalise(b1);
   cross(n, b1, b2);
-  float r = sqrtf(lt__path_rng_uniform(rng)), phi = 2.0f * PI * lt__path_rng_uniform(rng);
+  float r = sqrtf(lt__splitmix_unit(rng)), phi = 2.0f * PI * lt__splitmix_unit(rng);
   float x = r * cosf(phi), y = r * sinf(phi), z = sqrtf(fmaxf(0.0f, 1.0f - r * r));
   for (int k = 0; k < 3; k++) out[k] = x * b1[k] + y * b2[k] + z * n[k];
 }

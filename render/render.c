@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "render/render_internal.h"
+#include "scenes/splitmix.h"
 #include "runtime/error.h"
 #include "runtime/stats_internal.h"
 
@@ -116,7 +117,7 @@ static lt_status primary_batch(renderer *r, const camera_frame *f, int pass, siz
     lt__path path = {(int32_t)i, 1, 0, 0, 0, {1.0f / r->spp, 1.0f / r->spp, 1.0f / r->spp}, 0};
     path.rng = lt__path_rng_mix(lt__path_rng_mix(r->seed, (uint64_t)pass), i);
     float jx = 0.5f, jy = 0.5f;
-    if (r->spp > 1) jx = lt__path_rng_uniform(&path.rng), jy = lt__path_rng_uniform(&path.rng);
+    if (r->spp > 1) jx = lt__splitmix_unit(&path.rng), jy = lt__splitmix_unit(&path.rng);
     float sx = (2.0f * (x + jx) / r->width - 1.0f) * f->half_w, sy = (1.0f - 2.0f * (y + jy) / r->height) * f->half_h;
     lt_ray ray = {{f->eye[0], f->eye[1], f->eye[2]}, 0.0f, {0, 0, 0}, INFINITY};
     for (int k = 0; k < 3; k++) ray.dir[k] = f->w[k] + sx * f->u[k] + sy * f->v[k];

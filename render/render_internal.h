@@ -60,10 +60,7 @@ int lt__shade_hits(const lt__shading *sh, const lt__batch *batch, const lt_hit *
 /* Shadow and AO rays: the ones that reach their end unoccluded add their weight. */
 void lt__resolve_occlusion(const lt__batch *batch, const lt_hit *hits, float *image);
 
-/* splitmix64, deterministic on every machine; uniform floats in [0, 1). */
-uint64_t lt__path_rng_next(uint64_t *state);
-float lt__path_rng_uniform(uint64_t *state);
-/* A new state from a state and an index, for children and pixels. */
+/* A new state from a state and an index, for children and pixels (scenes/splitmix.h draws). */
 uint64_t lt__path_rng_mix(uint64_t state, uint64_t index);
 
 #endif

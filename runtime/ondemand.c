@@ -83,8 +83,11 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
     status = boxes && index ? LT_OK : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for %zu triangles", n);
     if (!status) status = triangle_boxes(scene, boxes, &bounds, &cbounds);
     for (int i = 0; !status && i < od->count; i++) index[i] = i;
-    if (!status) status = lt__buffer_end_write(ctx, &od->prim_boxes, boxes);
-    if (!status) status = lt__buffer_end_write(ctx, &od->index, index);
+    /* Always hand the staging copies back (OpenCL frees them), whatever happened. */
+    lt_status uploaded = boxes ? lt__buffer_end_write(ctx, &od->prim_boxes, boxes) : LT_OK;
+    if (!status) status = uploaded;
+    uploaded = index ? lt__buffer_end_write(ctx, &od->index, index) : LT_OK;
+    if (!status) status = uploaded;
   }
   if (!status) status = lt__buffer_create(ctx, &od->side, n * 4, NULL, LT_BUFFER_UNINIT);
   if (!status) status = lt__buffer_create(ctx, &od->scratch, n * 4, NULL, LT_BUFFER_UNINIT);

@@ -6,17 +6,11 @@
 #include <math.h>
 #include <string.h>
 
-uint64_t lt__rng_next(lt__rng *rng) {
-  uint64_t z = (rng->state += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
+#include "scenes/splitmix.h"
 
-float lt__rng_range(lt__rng *rng, float lo, float hi) {
-  float unit = (float)(lt__rng_next(rng) >> 40) * (1.0f / 16777216.0f);
-  return lo + (hi - lo) * unit;
-}
+uint64_t lt__rng_next(lt__rng *rng) { return lt__splitmix_next(&rng->state); }
+
+float lt__rng_range(lt__rng *rng, float lo, float hi) { return lo + (hi - lo) * lt__splitmix_unit(&rng->state); }
 
 lt__xform lt__xform_identity(void) { return lt__xform_place(0.0f, 0.0f, 0.0f, 0.0f); }
 

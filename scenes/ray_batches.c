@@ -6,15 +6,7 @@
 #include "runtime/error.h"
 #include "scenes/scene_internal.h"
 #include "scenes/ray_offset.h"
-
-/* splitmix64: deterministic on every machine. */
-static uint64_t next_u64(uint64_t *state) {
-  uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
-static float uniform(uint64_t *state) { return (next_u64(state) >> 40) * (1.0f / 16777216.0f); }
+#include "scenes/splitmix.h"
 
 size_t lt_ao_rays(const lt_scene *scene, const lt_ray *primary, const lt_hit *hits, size_t count, int samples,
                   float distance, uint64_t seed, lt_ray *out) {
@@ -45,7 +37,7 @@ size_t lt_ao_rays(const lt_scene *scene, const lt_ray *primary, const lt_hit *hi
     b2[0] = n[1] * b1[2] - n[2] * b1[1], b2[1] = n[2] * b1[0] - n[0] * b1[2], b2[2] = n[0] * b1[1] - n[1] * b1[0];
     uint64_t rng = seed ^ (i * 0x9e3779b97f4a7c15ull);
     for (int s = 0; s < samples; s++) {
-      float r = sqrtf(uniform(&rng)), phi = 6.2831853f * uniform(&rng), z = sqrtf(fmaxf(0.0f, 1.0f - r * r));
+      float r = sqrtf(lt__splitmix_unit(&rng)), phi = 6.2831853f * lt__splitmix_unit(&rng), z = sqrtf(fmaxf(0.0f, 1.0f - r * r));
       float x = r * cosf(phi), y = r * sinf(phi);
       lt_ray *ray = &out[m++];
       for (int k = 0; k < 3; k++) {
@@ -64,7 +56,7 @@ size_t lt_ao_rays(const lt_scene *scene, const lt_ray *primary, const lt_hit *hi
 void lt_collision_paths(const lt_scene *scene, int agents, uint64_t seed, float *paths) {
   float lo[3], hi[3];
   lt_scene_bounds(scene, lo, hi);
-  for (int a = 0; a < 6 * agents; a++) paths[a] = lo[a % 3] + uniform(&seed) * (hi[a % 3] - lo[a % 3]);
+  for (int a = 0; a < 6 * agents; a++) paths[a] = lo[a % 3] + lt__splitmix_unit(&seed) * (hi[a % 3] - lo[a % 3]);
 }
 
 void lt_collision_rays(const float *paths, int agents, int rays_per_agent, int frame, int frames, uint64_t seed,
@@ -80,7 +72,7 @@ void lt_collision_rays(const float *paths, int agents, int rays_per_agent, int f
       step += d * d;
     }
     for (int r = 0; r < rays_per_agent; r++) {
-      float z = 2.0f * uniform(&rng) - 1.0f, phi = 6.2831853f * uniform(&rng), s = sqrtf(fmaxf(0.0f, 1.0f - z * z));
+      float z = 2.0f * lt__splitmix_unit(&rng) - 1.0f, phi = 6.2831853f * lt__splitmix_unit(&rng), s = sqrtf(fmaxf(0.0f, 1.0f - z * z));
       out[(size_t)a * rays_per_agent + r] = (lt_ray){{pos[0], pos[1], pos[2]}, 0.0f, {s * cosf(phi), s * sinf(phi), z}, sqrtf(step)};
     }
   }

@@ -16,7 +16,7 @@ static lt_scene *scene_from(const float *tris, size_t n) {
 static void point_in_ball(uint64_t *seed, const float c[3], float r, float *p) {
   float d[3], len2;
   do {
-    for (int k = 0; k < 3; k++) d[k] = (2.0f * lt_test_uniform(seed) - 1.0f) * r;
+    for (int k = 0; k < 3; k++) d[k] = (2.0f * lt__splitmix_unit(seed) - 1.0f) * r;
     len2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
   } while (len2 > r * r || len2 < 1e-4f * r * r);
   for (int k = 0; k < 3; k++) p[k] = c[k] + d[k];
@@ -104,7 +104,7 @@ lt_hc_mesh lt_hc_cube(int n, uint64_t seed) {
   out.inside = calloc(3 * out.inside_count, sizeof *out.inside);
   for (size_t p = 1; p < out.inside_count; p++)
     for (int k = 0; k < 3; k++) {
-      float u = (2.0f * lt_test_uniform(&seed) - 1.0f) * (h - 1);
+      float u = (2.0f * lt__splitmix_unit(&seed) - 1.0f) * (h - 1);
       out.inside[3 * p + k] = p % 2 == 0 ? floorf(u + 0.5f) : u;
     }
   return out;

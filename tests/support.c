@@ -5,15 +5,6 @@
 #include <stdio.h>
 #include <string.h>
 
-uint64_t lt_test_next(uint64_t *state) {
-  uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
-
-float lt_test_uniform(uint64_t *state) { return (lt_test_next(state) >> 40) * (1.0f / 16777216.0f); }
-
 void lt_test_random_rays(const lt_scene *scene, uint64_t seed, size_t n, lt_ray *out) {
   float lo[3], hi[3];
   lt_scene_bounds(scene, lo, hi);
@@ -24,8 +15,8 @@ void lt_test_random_rays(const lt_scene *scene, uint64_t seed, size_t n, lt_ray 
   for (size_t i = 0; i < n; i++) {
     float a[3], b[3];
     for (int k = 0; k < 3; k++) {
-      a[k] = lo[k] + lt_test_uniform(&seed) * (hi[k] - lo[k]);
-      b[k] = lo[k] + lt_test_uniform(&seed) * (hi[k] - lo[k]);
+      a[k] = lo[k] + lt__splitmix_unit(&seed) * (hi[k] - lo[k]);
+      b[k] = lo[k] + lt__splitmix_unit(&seed) * (hi[k] - lo[k]);
     }
     out[i] = (lt_ray){{a[0], a[1], a[2]}, 0.0f, {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, INFINITY};
   }

@@ -6,9 +6,9 @@
 
 #include "lazytrace.h"
 
-/* A deterministic generator (splitmix64) so that every failure reproduces from its seed. */
-uint64_t lt_test_next(uint64_t *state);
-float lt_test_uniform(uint64_t *state);
+/* The library's deterministic generator (lt__splitmix_next, lt__splitmix_unit), so that every
+ * failure reproduces from its seed. */
+#include "scenes/splitmix.h"
 
 /* n rays between random points of the scene's bounds grown by 10%: many start inside. */
 void lt_test_random_rays(const lt_scene *scene, uint64_t seed, size_t n, lt_ray *out);

@@ -218,8 +218,8 @@ static void lbvh_identical_triangles_share_one_code(void **state) {
   lt_ray rays[rays_n];
   uint64_t seed = 5;
   for (int i = 0; i < rays_n; i++) {
-    float x = 1.2f * lt_test_uniform(&seed) - 0.1f, y = 1.2f * lt_test_uniform(&seed) - 0.1f;
-    rays[i] = (lt_ray){{x, y, 1.0f}, 0.0f, {0.1f * lt_test_uniform(&seed), 0.0f, -1.0f}, INFINITY};
+    float x = 1.2f * lt__splitmix_unit(&seed) - 0.1f, y = 1.2f * lt__splitmix_unit(&seed) - 0.1f;
+    rays[i] = (lt_ray){{x, y, 1.0f}, 0.0f, {0.1f * lt__splitmix_unit(&seed), 0.0f, -1.0f}, INFINITY};
   }
   assert_true(assert_matches_reference("identical", scene, &bvh, rays, rays_n) > rays_n / 5);
   lt__bvh_free(&bvh);

@@ -108,7 +108,7 @@ static size_t ao_rays(const lt_scene *scene, const lt_ray *primary, const lt_hit
     float p[3], d[3];
     for (int k = 0; k < 3; k++) {
       p[k] = (1 - hits[i].u - hits[i].v) * t[k] + hits[i].u * t[3 + k] + hits[i].v * t[6 + k];
-      d[k] = 2 * lt_test_uniform(&seed) - 1;
+      d[k] = 2 * lt__splitmix_unit(&seed) - 1;
     }
     (void)primary;
     out[m++] = (lt_ray){{p[0], p[1], p[2]}, 1e-3f, {d[0], d[1], d[2]}, 1.0f};

@@ -260,7 +260,7 @@ static int compare_u32(const void *a, const void *b) {
 
 /* Keys with many duplicates (a range of n / 3) so that the three-way split is exercised. */
 static void make_keys(uint64_t seed, size_t n, uint32_t *keys, uint32_t *sorted) {
-  for (size_t i = 0; i < n; i++) keys[i] = (uint32_t)(lt_test_next(&seed) % (n / 3 + 1));
+  for (size_t i = 0; i < n; i++) keys[i] = (uint32_t)(lt__splitmix_next(&seed) % (n / 3 + 1));
   memcpy(sorted, keys, n * sizeof *keys);
   qsort(sorted, n, sizeof *sorted, compare_u32);
 }
@@ -273,7 +273,7 @@ static double run_sort(const backend *b, lt_build_mode mode, uint64_t seed, size
   uint32_t *keys = malloc((n + 1) * 4), *sorted = malloc((n + 1) * 4), *answers = malloc((queries + 1) * 4);
   int32_t *positions = malloc((queries + 1) * 4);
   make_keys(seed, n, keys, sorted);
-  for (size_t i = 0; i < queries; i++) positions[i] = (int32_t)(lt_test_next(&seed) % n);
+  for (size_t i = 0; i < queries; i++) positions[i] = (int32_t)(lt__splitmix_next(&seed) % n);
   lt_lazy_sort *sort;
   lt_stats *stats;
   assert_int_equal(lt_stats_create(&stats), LT_OK);

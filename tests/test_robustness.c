@@ -230,9 +230,9 @@ static void robustness_rays_parallel_to_triangle_planes(void **state) {
          * it), direction with a zero component along the axis. */
         lt_ray *r = &rays[n++];
         for (int k = 0; k < 3; k++) {
-          float u = 12.0f * lt_test_uniform(&seed) - 6.0f;
+          float u = 12.0f * lt__splitmix_unit(&seed) - 6.0f;
           r->org[k] = i % 3 ? floorf(u) : u;
-          r->dir[k] = 2.0f * lt_test_uniform(&seed) - 1.0f;
+          r->dir[k] = 2.0f * lt__splitmix_unit(&seed) - 1.0f;
         }
         r->org[axis] = (float)(side * 4);
         r->dir[axis] = i % 2 ? 0.0f : -0.0f;
@@ -275,12 +275,12 @@ static void robustness_rays_starting_on_surfaces_and_node_boundaries(void **stat
   /* On the surface: a vertex, an edge's midpoint, a barycentric point. */
   for (size_t i = 0; i < 3000; i++) {
     const float *t = tris + 9 * ((i * 7919) % count);
-    float w1 = lt_test_uniform(&seed), w2 = lt_test_uniform(&seed) * (1 - w1), p[3];
+    float w1 = lt__splitmix_unit(&seed), w2 = lt__splitmix_unit(&seed) * (1 - w1), p[3];
     for (int k = 0; k < 3; k++)
       p[k] = i % 3 == 0 ? t[k] : i % 3 == 1 ? 0.5f * (t[k] + t[3 + k]) : (1 - w1 - w2) * t[k] + w1 * t[3 + k] + w2 * t[6 + k];
     lt_ray *r = &rays[n++];
     *r = (lt_ray){{p[0], p[1], p[2]}, 0.0f, {0, 0, 0}, INFINITY};
-    for (int k = 0; k < 3; k++) r->dir[k] = 2.0f * lt_test_uniform(&seed) - 1.0f;
+    for (int k = 0; k < 3; k++) r->dir[k] = 2.0f * lt__splitmix_unit(&seed) - 1.0f;
   }
 
   /* On node boundaries: corners and face centres of the full tree's boxes. */
@@ -298,7 +298,7 @@ static void robustness_rays_starting_on_surfaces_and_node_boundaries(void **stat
       *r = (lt_ray){{0, 0, 0}, 0.0f, {0, 0, 0}, INFINITY};
       for (int k = 0; k < 3; k++) {
         r->org[k] = j == 0 ? ((i >> k) & 1 ? hi[k] : lo[k]) : 0.5f * (lo[k] + hi[k]);
-        r->dir[k] = 2.0f * lt_test_uniform(&seed) - 1.0f;
+        r->dir[k] = 2.0f * lt__splitmix_unit(&seed) - 1.0f;
       }
       if (j == 1) r->org[i % 3] = (i & 8) ? hi[i % 3] : lo[i % 3];
       if (i % 5 == 0) r->dir[(i + 1) % 3] = 0.0f; /* running along the box's face */
@@ -352,7 +352,7 @@ static void robustness_sliver_and_zero_area_triangles(void **state) {
       float a[3], b[3], m[3];
       /* Multiples of 1/64, so that the midpoint is exact and "collinear" means collinear. */
       for (int k = 0; k < 3; k++)
-        a[k] = floorf(256.0f * lt_test_uniform(&seed) - 128.0f) / 64.0f, b[k] = floorf(256.0f * lt_test_uniform(&seed) - 128.0f) / 64.0f;
+        a[k] = floorf(256.0f * lt__splitmix_unit(&seed) - 128.0f) / 64.0f, b[k] = floorf(256.0f * lt__splitmix_unit(&seed) - 128.0f) / 64.0f;
       for (int k = 0; k < 3; k++) m[k] = 0.5f * (a[k] + b[k]);
       float *t = tris + 9 * count++;
       memcpy(t, a, sizeof a), memcpy(t + 3, b, sizeof b);
@@ -376,7 +376,7 @@ static void robustness_sliver_and_zero_area_triangles(void **state) {
     float p[3], o[3];
     for (int k = 0; k < 3; k++) {
       p[k] = aim < 3 ? t[3 * aim + k] : aim < 5 ? 0.5f * (t[k] + t[3 * (aim - 2) + k]) : (t[k] + t[3 + k] + t[6 + k]) / 3.0f;
-      o[k] = 8.0f * lt_test_uniform(&seed) - 4.0f;
+      o[k] = 8.0f * lt__splitmix_unit(&seed) - 4.0f;
     }
     rays[i] = (lt_ray){{o[0], o[1], o[2]}, 0.0f, {p[0] - o[0], p[1] - o[1], p[2] - o[2]}, INFINITY};
   }
@@ -502,7 +502,7 @@ static void robustness_ambient_occlusion_rays_never_hit_their_own_surface(void *
       uint64_t seed = 67;
       for (size_t i = 0; i < n; i++) {
         float d[3], o[3], len = 0.0f;
-        for (int k = 0; k < 3; k++) d[k] = 2.0f * lt_test_uniform(&seed) - 1.0f, len += d[k] * d[k];
+        for (int k = 0; k < 3; k++) d[k] = 2.0f * lt__splitmix_unit(&seed) - 1.0f, len += d[k] * d[k];
         for (int k = 0; k < 3; k++) d[k] /= sqrtf(len);
         for (int k = 0; k < 3; k++) o[k] = inside ? offsets[c] : offsets[c] + 3.0f * scales[c] * d[k];
         primary[i] = (lt_ray){{o[0], o[1], o[2]}, 0.0f, {inside ? d[0] : -d[0], inside ? d[1] : -d[1], inside ? d[2] : -d[2]}, INFINITY};

@@ -28,7 +28,9 @@ typedef struct lt_ray_setup {
   int kx, ky, kz;   /* axes permuted so that kz has the largest |dir| */
   float sx, sy, sz; /* shear constants */
   int valid;        /* 0 for NaN or infinite components, a zero direction or tmin > tmax */
-  int parallel;     /* some direction component is 0 (or -0) */
+#if LT_VECTOR_SLABS
+  int parallel; /* some direction component is 0 (or -0): lt_ray_slabs takes the per-axis loop */
+#endif
   int flags;        /* LT_QUERY_FLAG_* */
 } lt_ray_setup;
 
@@ -51,8 +53,8 @@ LT_DEVICE lt_ray_setup lt_ray_prepare(float ox, float oy, float oz, float tmin, 
 #if LT_VECTOR_SLABS
   r.org4 = lt_v4_make(ox, oy, oz, 0.0f);
   r.inv4 = lt_v4_make(r.inv_dir[0], r.inv_dir[1], r.inv_dir[2], 0.0f);
-#endif
   r.parallel = dx == 0.0f || dy == 0.0f || dz == 0.0f;
+#endif
 
   /* kz is the dimension where |dir| is largest; swapping kx and ky keeps the winding. */
   float ax = fabs(dx), ay = fabs(dy), az = fabs(dz);
