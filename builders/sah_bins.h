@@ -76,10 +76,8 @@ LT_DEVICE void lt_bin_scale(const lt_box *cbounds, int bins, float scale[3]) {
 }
 
 /* Bin of a centroid coordinate; clamped because rounding can land on k == bins. */
-LT_DEVICE int lt_bin_of(float c, float lo, float scale, int bins) {
-  int k = (int)((c - lo) * scale);
-  return k < 0 ? 0 : k >= bins ? bins - 1 : k;
-}
+LT_DEVICE int lt_bin_clamp(int k, int bins) { return k < 0 ? 0 : k >= bins ? bins - 1 : k; }
+LT_DEVICE int lt_bin_of(float c, float lo, float scale, int bins) { return lt_bin_clamp((int)((c - lo) * scale), bins); }
 
 /* A box as two vectors (lanes x y z, w unused) and back. */
 LT_DEVICE lt_v4 lt_box_lo4(const lt_box *b) { return lt_v4_make(b->lo[0], b->lo[1], b->lo[2], 0.0f); }
@@ -125,8 +123,7 @@ LT_DEVICE void lt_bins_add(lt_bins *bins, lt_v4 clo, lt_v4 scale, int nbins, lt_
   lt_vi4 k = lt_v4_to_int(((lo + hi) * 0.5f - clo) * scale);
   for (int axis = 0; axis < 3; axis++) {
     if (lt_v4_lane(scale, axis) == 0.0f) continue;
-    int bin = lt_v4_lane(k, axis);
-    int i = axis * LT_MAX_BINS + (bin < 0 ? 0 : bin >= nbins ? nbins - 1 : bin);
+    int i = axis * LT_MAX_BINS + lt_bin_clamp(lt_v4_lane(k, axis), nbins);
     bins->count[i]++;
     bins->lo[i] = lt_v4_min(lo, bins->lo[i]);
     bins->hi[i] = lt_v4_max(hi, bins->hi[i]);
