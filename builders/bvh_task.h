@@ -176,21 +176,24 @@ typedef struct lt_bvh_sides {
 
 /* Notes in side[] which side of split (axis * 64 + bin) each primitive of refs[lo, hi) goes
  * to, 0 left or 1 right, as binning put it, and returns how many go left; bounds both sides'
- * centroids, and their boxes too when `boxes` is set. */
+ * centroids, and their boxes too when `boxes` is set. A primitive's bin is past `bin` exactly
+ * when (c - lo) * scale >= bin + 1 on the axis (truncation and the clamp of lt_bin_of change
+ * nothing there), so the test is one vector compare against bin + 1 on the axis and infinity
+ * on the others. */
 LT_DEVICE lt_i32 lt_bvh_sides_of(const lt_bvh_build *b, LT_GLOBAL const lt_i32 *refs, lt_i32 lo, lt_i32 hi,
                                  lt_i32 split, const lt_box *cbounds, int boxes, lt_bvh_sides *out) {
   int axis = split >> 6, bin = split & 63;
-  float scale[3];
-  lt_bin_scale(cbounds, b->bins, scale);
-  float clo = cbounds->lo[axis], s = scale[axis];
+  lt_v4 clo4 = lt_box_lo4(cbounds), scale4 = lt_bin_scale4(cbounds, b->bins);
   lt_v4 inf = lt_v4_splat(INFINITY), ninf = lt_v4_splat(-INFINITY);
+  lt_v4 edge = lt_v4_make(axis == 0 ? bin + 1.0f : INFINITY, axis == 1 ? bin + 1.0f : INFINITY,
+                          axis == 2 ? bin + 1.0f : INFINITY, INFINITY);
   lt_v4 llo = inf, lhi = ninf, rlo = inf, rhi = ninf, lclo = inf, lchi = ninf, rclo = inf, rchi = ninf;
   lt_i32 left = 0;
   for (lt_i32 i = lo; i < hi; i++) {
     if (i + LT_PREFETCH < hi) lt_prefetch(b->prim_boxes + 2 * (long)refs[i + LT_PREFETCH]);
     LT_GLOBAL const lt_v4 *box = b->prim_boxes + 2 * (long)refs[i];
     lt_v4 plo = box[0], phi = box[1], c = (plo + phi) * 0.5f;
-    int side = lt_bin_of(lt_v4_lane(c, axis), clo, s, b->bins) > bin;
+    int side = lt_v4_any_ge((c - clo4) * scale4, edge);
     b->side[i] = side;
     if (side) {
       rclo = lt_v4_min(c, rclo), rchi = lt_v4_max(c, rchi);

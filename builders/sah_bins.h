@@ -117,17 +117,18 @@ LT_DEVICE void lt_bins_clear(lt_bins *bins) {
   }
 }
 
-/* Adds one primitive (box lo, hi) to its bin on every axis that has an extent; the bins are
- * those of lt_bin_of for the centroid 0.5 * (lo + hi). */
+/* Adds one primitive (box lo, hi) to its bin on every axis: the bins of lt_bin_of for the
+ * centroid 0.5 * (lo + hi), clamped in float before the conversion (the same bin: truncation
+ * and the clamp commute on [0, nbins - 1]) so that the three axes stay in one vector. An axis
+ * whose centroids coincide (scale 0) puts everything in its bin 0, where no split is priced. */
 LT_DEVICE void lt_bins_add(lt_bins *bins, lt_v4 clo, lt_v4 scale, int nbins, lt_v4 lo, lt_v4 hi) {
-  lt_vi4 k = lt_v4_to_int(((lo + hi) * 0.5f - clo) * scale);
-  for (int axis = 0; axis < 3; axis++) {
-    if (lt_v4_lane(scale, axis) == 0.0f) continue;
-    int i = axis * LT_MAX_BINS + lt_bin_clamp(lt_v4_lane(k, axis), nbins);
-    bins->count[i]++;
-    bins->lo[i] = lt_v4_min(lo, bins->lo[i]);
-    bins->hi[i] = lt_v4_max(hi, bins->hi[i]);
-  }
+  lt_v4 t = lt_v4_max(((lo + hi) * 0.5f - clo) * scale, lt_v4_splat(0.0f));
+  lt_vi4 k = lt_v4_to_int(lt_v4_min(t, lt_v4_splat((float)(nbins - 1))));
+  int i0 = lt_v4_lane(k, 0), i1 = LT_MAX_BINS + lt_v4_lane(k, 1), i2 = 2 * LT_MAX_BINS + lt_v4_lane(k, 2);
+  bins->count[i0]++, bins->count[i1]++, bins->count[i2]++;
+  bins->lo[i0] = lt_v4_min(lo, bins->lo[i0]), bins->hi[i0] = lt_v4_max(hi, bins->hi[i0]);
+  bins->lo[i1] = lt_v4_min(lo, bins->lo[i1]), bins->hi[i1] = lt_v4_max(hi, bins->hi[i1]);
+  bins->lo[i2] = lt_v4_min(lo, bins->lo[i2]), bins->hi[i2] = lt_v4_max(hi, bins->hi[i2]);
 }
 
 /* Merges private bins into a global slab with atomics (order-independent). */

@@ -45,7 +45,13 @@ typedef int32_t lt_vi4 __attribute__((vector_size(16)));
 /* a < b ? a : b and a > b ? a : b per lane, as the scalar code writes them. */
 static inline lt_v4 lt_v4_min(lt_v4 a, lt_v4 b) { return (lt_v4)_mm_min_ps((__m128)a, (__m128)b); }
 static inline lt_v4 lt_v4_max(lt_v4 a, lt_v4 b) { return (lt_v4)_mm_max_ps((__m128)a, (__m128)b); }
+/* Whether a >= b in any lane. */
+static inline int lt_v4_any_ge(lt_v4 a, lt_v4 b) { return _mm_movemask_ps(_mm_cmpge_ps((__m128)a, (__m128)b)) != 0; }
 #else
+static inline int lt_v4_any_ge(lt_v4 a, lt_v4 b) {
+  lt_vi4 m = a >= b;
+  return (m[0] | m[1] | m[2] | m[3]) != 0;
+}
 static inline lt_v4 lt_v4_min(lt_v4 a, lt_v4 b) {
   lt_vi4 m = a < b;
   return (lt_v4)((m & (lt_vi4)a) | (~m & (lt_vi4)b));

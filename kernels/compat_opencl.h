@@ -33,6 +33,8 @@ typedef int4 lt_vi4;
 /* a < b ? a : b and a > b ? a : b per lane, as the scalar code writes them. */
 LT_DEVICE float4 lt_v4_min(float4 a, float4 b) { return select(b, a, a < b); }
 LT_DEVICE float4 lt_v4_max(float4 a, float4 b) { return select(b, a, a > b); }
+/* Whether a >= b in any lane. */
+LT_DEVICE int lt_v4_any_ge(float4 a, float4 b) { return any(a >= b); }
 
 #define lt_make_int4(a, b, c, d) ((int4)((a), (b), (c), (d)))
 #define lt_make_float4(a, b, c, d) ((float4)((a), (b), (c), (d)))
