@@ -10,11 +10,13 @@ lt_status lt__buffer_create(lt_context *ctx, lt__buffer *buffer, size_t bytes, c
   memset(buffer, 0, sizeof *buffer);
   buffer->bytes = bytes < 16 ? 16 : (bytes + 15) / 16 * 16;
   if (ctx->kind == LT_DEVICE_NATIVE) {
-    /* calloc leaves untouched pages unmapped: a big node array costs only what is used. */
-    if (fill == LT_BUFFER_UNINIT || (fill == 0 && !init)) {
+    /* calloc leaves untouched pages unmapped: a big zeroed array costs only what is used. An
+     * uninitialised buffer skips even that: calloc must clear memory the heap hands back (a
+     * memset of every per-frame array), while malloc's untouched pages stay unmapped too. */
+    if (fill == 0 && !init) {
       buffer->host = calloc(1, buffer->bytes);
       if (!buffer->host) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a %zu-byte buffer", bytes);
-      return init && bytes ? lt__buffer_write(ctx, buffer, 0, bytes, init) : LT_OK;
+      return LT_OK;
     }
     buffer->host = aligned_alloc(64, (buffer->bytes + 63) / 64 * 64);
     if (!buffer->host) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a %zu-byte buffer", bytes);
