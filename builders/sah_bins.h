@@ -183,7 +183,7 @@ LT_DEVICE lt_split lt_sah_best_split(const lt_bins *bins, int nbins, const lt_bo
                                      float intersection_cost) {
   lt_split best;
   best.axis = -1, best.bin = -1, best.cost = INFINITY, best.left_count = 0;
-  float parent_area = lt_box_area(bounds);
+  float parent_area = lt_box_area(bounds), best_x = INFINITY;
   for (int axis = 0; axis < 3; axis++) {
     int a = axis * LT_MAX_BINS;
 
@@ -199,16 +199,19 @@ LT_DEVICE lt_split lt_sah_best_split(const lt_bins *bins, int nbins, const lt_bo
       right_count[i] = n;
     }
 
-    /* Prices from the left. */
+    /* Prices from the left. The cost, T + I * x / area, never falls where the weighted area x
+     * does not (each step rounds monotonically), so a boundary whose x is not below the
+     * best's cannot win and is not divided out: the same choice, ties included. */
     lo = lt_v4_splat(INFINITY), hi = lt_v4_splat(-INFINITY);
     n = 0;
     for (int i = 0; i < nbins - 1; i++) {
       n += bins->count[a + i];
       if (bins->count[a + i]) lo = lt_v4_min(bins->lo[a + i], lo), hi = lt_v4_max(bins->hi[a + i], hi);
       if (n == 0 || right_count[i + 1] == 0) continue;
-      float cost = traversal_cost +
-                   intersection_cost * (lt_area4(lo, hi) * n + right_area[i + 1] * right_count[i + 1]) / parent_area;
-      if (cost < best.cost) best.axis = axis, best.bin = i, best.cost = cost, best.left_count = n;
+      float x = lt_area4(lo, hi) * n + right_area[i + 1] * right_count[i + 1];
+      if (!(x < best_x)) continue;
+      float cost = traversal_cost + intersection_cost * x / parent_area;
+      if (cost < best.cost) best.axis = axis, best.bin = i, best.cost = cost, best.left_count = n, best_x = x;
     }
   }
   best.left = best.right = best.cleft = best.cright = lt_box_empty();
