@@ -12,6 +12,9 @@
 #include "kernels/shared_types.h"
 
 #define LT_BVH_CHUNK 2048  /* primitives per work chunk */
+#ifndef LT_BVH_ONE_GO
+#define LT_BVH_ONE_GO LT_BVH_CHUNK /* split in one go up to here (the backend may say more) */
+#endif
 #define LT_BVH_SLAB_SIZE LT_BINS_SIZE
 
 /* An unbuilt child link holds its task's slot: link = -2 - slot (count 0). */
@@ -124,7 +127,7 @@ LT_DEVICE void lt_bvh_spawn(const lt_bvh_build *b, lt_i32 node, int side, lt_i32
     return;
   }
   LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
-  task->phase = count <= LT_BVH_CHUNK ? LT_BVH_SMALL : LT_BVH_INIT;
+  task->phase = count <= LT_BVH_ONE_GO ? LT_BVH_SMALL : LT_BVH_INIT;
   lt_store_box(task->work + W_CBOUNDS, cbounds);
   lt_store_box(task->work + W_BOUNDS, bounds);
   lt_bvh_set_child(n, side, bounds, LT_LINK_UNBUILT(slot), 0);
@@ -230,7 +233,7 @@ LT_DEVICE void lt_slab_grow_box(LT_GLOBAL lt_i32 *slab, int i, const lt_box *box
   }
 }
 
-/* Splits a node in one go on work-item 0 (a node of at most LT_BVH_CHUNK primitives, or a
+/* Splits a node in one go on work-item 0 (a node of at most LT_BVH_ONE_GO primitives, or a
  * larger one that found no free bin slab): bins it (a sample of a large one), prices the
  * splits, notes each primitive's side while bounding both sides, and partitions in order
  * into the other array of the ping-pong. Returns 0 when the node is a leaf; else the split,

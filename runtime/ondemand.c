@@ -115,7 +115,8 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
   control.nodes_next = 1;
   if (!status) status = lt__buffer_write(ctx, &od->pool.control, 0, sizeof control, &control);
   if (!status && od->count > 1) {
-    lt_task task = {0, od->count, 0, od->count <= LT_BVH_CHUNK ? LT_BVH_SMALL : LT_BVH_INIT, 1, 0, 0, 0, {0}};
+    int one_go = ctx->kind == LT_DEVICE_NATIVE ? LT_BVH_ONE_GO : LT_BVH_CHUNK; /* as lt_bvh_spawn */
+    lt_task task = {0, od->count, 0, od->count <= one_go ? LT_BVH_SMALL : LT_BVH_INIT, 1, 0, 0, 0, {0}};
     for (int k = 0; k < 3; k++) {
       task.work[W_CBOUNDS + k] = lt_float_as_int(cbounds.lo[k]);
       task.work[W_CBOUNDS + 3 + k] = lt_float_as_int(cbounds.hi[k]);
