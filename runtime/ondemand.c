@@ -29,19 +29,21 @@ static void box_slice(void *arg) {
   box_job *job = arg;
   int t = lt__native_group_id;
   size_t n = job->scene->count, begin = n * t / job->threads, end = n * (t + 1) / job->threads;
-  lt_box bounds = lt_box_empty(), cbounds = lt_box_empty();
-  float *boxes = job->boxes;
+  lt_v4 inf = lt_v4_splat(INFINITY), ninf = lt_v4_splat(-INFINITY);
+  lt_v4 blo = inf, bhi = ninf, clo = inf, chi = ninf;
+  lt_v4 *boxes = (lt_v4 *)job->boxes;
   for (size_t i = begin; i < end; i++) {
-    lt_box box;
-    float c[3];
-    lt_tri_bounds(job->scene->tris + 9 * i, &box, c);
-    for (int k = 0; k < 3; k++) boxes[8 * i + k] = box.lo[k], boxes[8 * i + 4 + k] = box.hi[k];
-    boxes[8 * i + 3] = boxes[8 * i + 7] = 0.0f;
-    lt_box cb = {{c[0], c[1], c[2]}, {c[0], c[1], c[2]}};
-    lt_box_grow(&bounds, &box);
-    lt_box_grow(&cbounds, &cb);
+    /* lt_tri_bounds as vectors: the same comparisons in the same order, lane by lane. */
+    const float *v = job->scene->tris + 9 * i;
+    lt_v4 a = lt_v4_make(v[0], v[1], v[2], 0.0f), b = lt_v4_make(v[3], v[4], v[5], 0.0f);
+    lt_v4 c = lt_v4_make(v[6], v[7], v[8], 0.0f);
+    lt_v4 lo = lt_v4_min(c, lt_v4_min(a, b)), hi = lt_v4_max(c, lt_v4_max(a, b));
+    lt_v4 centroid = (lo + hi) * 0.5f;
+    boxes[2 * i] = lo, boxes[2 * i + 1] = hi;
+    blo = lt_v4_min(lo, blo), bhi = lt_v4_max(hi, bhi);
+    clo = lt_v4_min(centroid, clo), chi = lt_v4_max(centroid, chi);
   }
-  job->bounds[t] = bounds, job->cbounds[t] = cbounds;
+  job->bounds[t] = lt_box_of4(blo, bhi), job->cbounds[t] = lt_box_of4(clo, chi);
 }
 
 /* The boxes and the root's bounds and centroid bounds. */
