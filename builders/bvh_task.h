@@ -259,11 +259,13 @@ LT_DEVICE int lt_bvh_split_small(const lt_bvh_build *b, lt_i32 begin, lt_i32 end
     return 1;
   }
 
-  /* Sides and exact bounds (the bins saw only a sample of a large node), then a stable
-   * partition. */
+  /* Sides and centroid bounds; the boxes too when the bins saw only a sample (otherwise the
+   * bins had them, as in the chunked phases). Then a stable partition. */
   lt_bvh_sides sides;
-  s->left_count = lt_bvh_sides_of(b, src, begin, end, s->axis * 64 + s->bin, cbounds, 1, &sides);
-  s->left = sides.box[0], s->right = sides.box[1], s->cleft = sides.cbox[0], s->cright = sides.cbox[1];
+  int sampled = step > 1;
+  s->left_count = lt_bvh_sides_of(b, src, begin, end, s->axis * 64 + s->bin, cbounds, sampled, &sides);
+  if (sampled) s->left = sides.box[0], s->right = sides.box[1];
+  s->cleft = sides.cbox[0], s->cright = sides.cbox[1];
   for (lt_i32 i = begin, left = begin, right = begin + s->left_count; i < end; i++) {
     if (b->side[i]) dst[right++] = src[i];
     else dst[left++] = src[i];
