@@ -31,11 +31,11 @@ lt__sah_config lt__sah_config_default(void) {
   return config;
 }
 
-/* Bins the range (every primitive, or a regular sample of a large node) and prices the
- * splits (sah_bins.h). */
-static lt_split find_split(builder *b, int begin, int end, const lt_box *bounds, const lt_box *cbounds) {
+/* Bins the range (every primitive, or a regular sample of a large node) over the node's box
+ * and prices the splits (sah_bins.h). */
+static lt_split find_split(builder *b, int begin, int end, const lt_box *bounds) {
   lt_bins bins;
-  lt_v4 clo = lt_box_lo4(cbounds), scale = lt_bin_scale4(cbounds, b->config->bins);
+  lt_v4 clo = lt_box_lo4(bounds), scale = lt_bin_scale4(bounds, b->config->bins);
   lt_bins_clear(&bins);
   int step = lt_bin_step(end - begin);
   for (int i = begin; i < end; i += step) {
@@ -48,13 +48,13 @@ static lt_split find_split(builder *b, int begin, int end, const lt_box *bounds,
 
 /* Stable partition: the primitives of bins [0, s.bin] keep their order at the front, the
  * others keep theirs behind them, as the pool's chunked partition does. Returns the middle. */
-static int partition(builder *b, int begin, int end, const lt_split *s, const lt_box *cbounds) {
+static int partition(builder *b, int begin, int end, const lt_split *s, const lt_box *bounds) {
   float scale[3];
-  lt_bin_scale(cbounds, b->config->bins, scale);
+  lt_bin_scale(bounds, b->config->bins, scale);
   int left = begin, right = 0;
   for (int i = begin; i < end; i++) {
     int p = b->index[i];
-    if (lt_bin_of(b->centroid[3 * p + s->axis], cbounds->lo[s->axis], scale[s->axis], b->config->bins) <= s->bin)
+    if (lt_bin_of(b->centroid[3 * p + s->axis], bounds->lo[s->axis], scale[s->axis], b->config->bins) <= s->bin)
       b->index[left++] = p;
     else
       b->scratch[right++] = p;
@@ -100,22 +100,16 @@ static void build(builder *b, int begin, int end, int depth, child *out) {
   lt__bvh *bvh = b->bvh;
   if (depth > bvh->max_depth) bvh->max_depth = depth;
 
-  /* Bounds of the primitives and of their centroids. */
-  lt_box bounds = lt_box_empty(), cbounds = lt_box_empty();
-  for (int i = begin; i < end; i++) {
-    int p = b->index[i];
-    const float *c = &b->centroid[3 * p];
-    lt_box cb = {{c[0], c[1], c[2]}, {c[0], c[1], c[2]}};
-    lt_box_grow(&bounds, &b->prim_box[p]);
-    lt_box_grow(&cbounds, &cb);
-  }
+  /* Bounds of the primitives: the node's box and its bin grid. */
+  lt_box bounds = lt_box_empty();
+  for (int i = begin; i < end; i++) lt_box_grow(&bounds, &b->prim_box[b->index[i]]);
   out->bounds = bounds;
   int n = end - begin;
 
   /* Leaf when small enough and SAH sees no gain, or at the depth bound. */
   lt_split s;
   s.axis = -1, s.cost = INFINITY;
-  if (n > 1 && depth < LT_BVH_MAX_DEPTH - 1) s = find_split(b, begin, end, &bounds, &cbounds);
+  if (n > 1 && depth < LT_BVH_MAX_DEPTH - 1) s = find_split(b, begin, end, &bounds);
   if (lt_sah_make_leaf(n, depth, &s, b->config->max_leaf_size, b->config->intersection_cost, LT_BVH_MAX_DEPTH)) {
     out->link = begin, out->count = n;
     bvh->leaf_count++;
@@ -123,8 +117,8 @@ static void build(builder *b, int begin, int end, int depth, child *out) {
     return;
   }
 
-  /* Split where SAH says, or at the object median when all centroids coincide. */
-  int mid = s.axis >= 0 ? partition(b, begin, end, &s, &cbounds) : begin + n / 2;
+  /* Split where SAH says, or at the object median when no boundary divides the centroids. */
+  int mid = s.axis >= 0 ? partition(b, begin, end, &s, &bounds) : begin + n / 2;
   int node = bvh->node_count++;
   out->link = node, out->count = 0;
   bvh->sah_cost += (double)b->config->traversal_cost * lt_box_area(&bounds);

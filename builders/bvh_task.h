@@ -29,8 +29,7 @@
 #define LT_BVH_BOXES 5   /* object median: chunks bound both halves and move them over */
 
 /* Task data (lt_task.work). */
-#define W_CBOUNDS 0 /* 6 floats: centroid bounds */
-#define W_BOUNDS 6  /* 6 floats: node bounds */
+#define W_BOUNDS 0  /* 6 floats: node bounds, which are also its bin grid */
 #define W_SLAB 12
 #define W_SPLIT 13  /* axis * 64 + bin, or -1 for the object median */
 #define W_LEFT 14   /* primitives going left */
@@ -46,7 +45,8 @@ typedef struct lt_bvh_build {
   lt_pool pool;
   LT_GLOBAL const float *verts;  /* 9 per triangle, in scene order (the scene's own array) */
   LT_GLOBAL const lt_v4 *prim_boxes; /* 2 per triangle: lo, hi (lanes x y z; computed once) */
-  LT_GLOBAL lt_i32 *side;        /* per position: 0 left, 1 right of the split (COUNT to SCATTER) */
+  LT_GLOBAL lt_i32 *side;        /* per position: its bins packed (BIN to COUNT, where every
+                                  * primitive is binned), then 0 left or 1 right (to SCATTER) */
   LT_GLOBAL lt_i32 *index;       /* primitive references, permuted into leaf order */
   LT_GLOBAL lt_i32 *scratch;     /* the other half of the ping-pong (lt_bvh_refs) */
   LT_GLOBAL lt_i32 *chunk_left;  /* at each chunk's first position: its left-hand count, then
@@ -112,7 +112,7 @@ LT_DEVICE void lt_bvh_link(const lt_bvh_build *b, lt_i32 address, lt_i32 link, l
 
 /* Inserts the task that will build child `side` of node `node` over [begin, end). */
 LT_DEVICE void lt_bvh_spawn(const lt_bvh_build *b, lt_i32 node, int side, lt_i32 begin, lt_i32 end, lt_i32 depth,
-                            const lt_box *bounds, const lt_box *cbounds) {
+                            const lt_box *bounds) {
   LT_GLOBAL lt_bvh_node *n = &b->nodes[node];
   lt_i32 count = end - begin;
   if (count == 1) {
@@ -128,7 +128,6 @@ LT_DEVICE void lt_bvh_spawn(const lt_bvh_build *b, lt_i32 node, int side, lt_i32
   }
   LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
   task->phase = count <= LT_BVH_ONE_GO ? LT_BVH_SMALL : LT_BVH_INIT;
-  lt_store_box(task->work + W_CBOUNDS, cbounds);
   lt_store_box(task->work + W_BOUNDS, bounds);
   lt_bvh_set_child(n, side, bounds, LT_LINK_UNBUILT(slot), 0);
   lt_pool_publish(&b->pool, slot);
@@ -136,15 +135,15 @@ LT_DEVICE void lt_bvh_spawn(const lt_bvh_build *b, lt_i32 node, int side, lt_i32
 
 /* The task's node is split at left_end: make the node, its children, and link it in. */
 LT_DEVICE void lt_bvh_finish_split(const lt_bvh_build *b, lt_i32 slot, lt_i32 left_end, const lt_box *left,
-                                   const lt_box *right, const lt_box *cleft, const lt_box *cright) {
+                                   const lt_box *right) {
   LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
   lt_i32 node = lt_atomic_add_i32(&b->pool.control->nodes_next, 1);
   if (node >= b->node_capacity) {
     lt_pool_fail(&b->pool, LT_POOL_ERROR_NODES);
     return;
   }
-  lt_bvh_spawn(b, node, 0, task->begin, left_end, task->depth + 1, left, cleft);
-  lt_bvh_spawn(b, node, 1, left_end, task->end, task->depth + 1, right, cright);
+  lt_bvh_spawn(b, node, 0, task->begin, left_end, task->depth + 1, left);
+  lt_bvh_spawn(b, node, 1, left_end, task->end, task->depth + 1, right);
   lt_bvh_link(b, lt_atomic_load_i32(&task->node), node, 0);
   lt_pool_retire(&b->pool, slot);
 }
@@ -161,68 +160,69 @@ LT_DEVICE void lt_bvh_finish_leaf(const lt_bvh_build *b, lt_i32 slot) {
  * boxes through the index, and most of a pass's time was waiting for them. */
 #define LT_PREFETCH 16
 
-/* Bins the primitives at positions lo, lo + step, ... below hi into private bins. */
+/* Bins the primitives at positions lo, lo + step, ... below hi into private bins over the
+ * node's box `grid`. When every primitive is binned (step 1 of the node), each position's
+ * packed bins go to side[], so that the partition needs no box again. */
 LT_DEVICE void lt_bvh_bin_range(const lt_bvh_build *b, LT_GLOBAL const lt_i32 *refs, lt_i32 lo, lt_i32 hi,
-                                lt_i32 step, const lt_box *cbounds, lt_bins *bins) {
-  lt_v4 clo = lt_box_lo4(cbounds), scale = lt_bin_scale4(cbounds, b->bins);
+                                lt_i32 step, int record, const lt_box *grid, lt_bins *bins) {
+  lt_v4 glo = lt_box_lo4(grid), scale = lt_bin_scale4(grid, b->bins);
   for (lt_i32 i = lo; i < hi; i += step) {
     if (i + LT_PREFETCH * step < hi) lt_prefetch(b->prim_boxes + 2 * (long)refs[i + LT_PREFETCH * step]);
     LT_GLOBAL const lt_v4 *box = b->prim_boxes + 2 * (long)refs[i];
-    lt_bins_add(bins, clo, scale, b->bins, box[0], box[1]);
+    int packed = lt_bins_add(bins, glo, scale, b->bins, box[0], box[1]);
+    if (record) b->side[i] = packed;
   }
 }
 
-/* Both sides of a split as a partition pass grows them: boxes and centroid boxes. */
-typedef struct lt_bvh_sides {
-  lt_box box[2], cbox[2];
-} lt_bvh_sides;
-
 /* Notes in side[] which side of split (axis * 64 + bin) each primitive of refs[lo, hi) goes
- * to, 0 left or 1 right, as binning put it, and returns how many go left; bounds both sides'
- * centroids, and their boxes too when `boxes` is set. A primitive's bin is past `bin` exactly
- * when (c - lo) * scale >= bin + 1 on the axis (truncation and the clamp of lt_bin_of change
- * nothing there), so the test is one vector compare against bin + 1 on the axis and infinity
- * on the others. */
+ * to, 0 left or 1 right, and returns how many go left. With `binned` the primitives' packed
+ * bins are already in side[] (every primitive was binned) and only they are read; otherwise
+ * the boxes are gathered, each side's box grown into box[0] and box[1], and a primitive's bin
+ * is past `bin` exactly when (c - lo) * scale >= bin + 1 on the axis (truncation and the
+ * clamp change nothing there): one vector compare against bin + 1 on the axis, infinity on
+ * the others. */
 LT_DEVICE lt_i32 lt_bvh_sides_of(const lt_bvh_build *b, LT_GLOBAL const lt_i32 *refs, lt_i32 lo, lt_i32 hi,
-                                 lt_i32 split, const lt_box *cbounds, int boxes, lt_bvh_sides *out) {
+                                 lt_i32 split, const lt_box *grid, int binned, lt_box box[2]) {
   int axis = split >> 6, bin = split & 63;
-  lt_v4 clo4 = lt_box_lo4(cbounds), scale4 = lt_bin_scale4(cbounds, b->bins);
+  lt_i32 left = 0;
+  if (binned) {
+    for (lt_i32 i = lo; i < hi; i++) {
+      int side = lt_packed_bin(b->side[i], axis) > bin;
+      b->side[i] = side;
+      left += 1 - side;
+    }
+    return left;
+  }
+  lt_v4 glo = lt_box_lo4(grid), scale = lt_bin_scale4(grid, b->bins);
   lt_v4 inf = lt_v4_splat(INFINITY), ninf = lt_v4_splat(-INFINITY);
   lt_v4 edge = lt_v4_make(axis == 0 ? bin + 1.0f : INFINITY, axis == 1 ? bin + 1.0f : INFINITY,
                           axis == 2 ? bin + 1.0f : INFINITY, INFINITY);
-  lt_v4 llo = inf, lhi = ninf, rlo = inf, rhi = ninf, lclo = inf, lchi = ninf, rclo = inf, rchi = ninf;
-  lt_i32 left = 0;
+  lt_v4 llo = inf, lhi = ninf, rlo = inf, rhi = ninf;
   for (lt_i32 i = lo; i < hi; i++) {
     if (i + LT_PREFETCH < hi) lt_prefetch(b->prim_boxes + 2 * (long)refs[i + LT_PREFETCH]);
-    LT_GLOBAL const lt_v4 *box = b->prim_boxes + 2 * (long)refs[i];
-    lt_v4 plo = box[0], phi = box[1], c = (plo + phi) * 0.5f;
-    int side = lt_v4_any_ge((c - clo4) * scale4, edge);
+    LT_GLOBAL const lt_v4 *p = b->prim_boxes + 2 * (long)refs[i];
+    lt_v4 plo = p[0], phi = p[1];
+    int side = lt_v4_any_ge(((plo + phi) * 0.5f - glo) * scale, edge);
     b->side[i] = side;
     if (side) {
-      rclo = lt_v4_min(c, rclo), rchi = lt_v4_max(c, rchi);
-      if (boxes) rlo = lt_v4_min(plo, rlo), rhi = lt_v4_max(phi, rhi);
+      rlo = lt_v4_min(plo, rlo), rhi = lt_v4_max(phi, rhi);
     } else {
-      lclo = lt_v4_min(c, lclo), lchi = lt_v4_max(c, lchi);
-      if (boxes) llo = lt_v4_min(plo, llo), lhi = lt_v4_max(phi, lhi);
+      llo = lt_v4_min(plo, llo), lhi = lt_v4_max(phi, lhi);
       left++;
     }
   }
-  out->box[0] = lt_box_of4(llo, lhi), out->box[1] = lt_box_of4(rlo, rhi);
-  out->cbox[0] = lt_box_of4(lclo, lchi), out->cbox[1] = lt_box_of4(rclo, rchi);
+  box[0] = lt_box_of4(llo, lhi), box[1] = lt_box_of4(rlo, rhi);
   return left;
 }
 
-/* Bounds and centroid bounds of refs[lo, hi). */
-LT_DEVICE void lt_bvh_bound_range(const lt_bvh_build *b, LT_GLOBAL const lt_i32 *refs, lt_i32 lo, lt_i32 hi,
-                                  lt_box *box, lt_box *cbox) {
-  lt_v4 blo = lt_v4_splat(INFINITY), bhi = lt_v4_splat(-INFINITY), clo = blo, chi = bhi;
+/* Bounds of refs[lo, hi). */
+LT_DEVICE lt_box lt_bvh_bound_range(const lt_bvh_build *b, LT_GLOBAL const lt_i32 *refs, lt_i32 lo, lt_i32 hi) {
+  lt_v4 blo = lt_v4_splat(INFINITY), bhi = lt_v4_splat(-INFINITY);
   for (lt_i32 i = lo; i < hi; i++) {
     LT_GLOBAL const lt_v4 *p = b->prim_boxes + 2 * (long)refs[i];
-    lt_v4 plo = p[0], phi = p[1], c = (plo + phi) * 0.5f;
-    blo = lt_v4_min(plo, blo), bhi = lt_v4_max(phi, bhi);
-    clo = lt_v4_min(c, clo), chi = lt_v4_max(c, chi);
+    blo = lt_v4_min(p[0], blo), bhi = lt_v4_max(p[1], bhi);
   }
-  *box = lt_box_of4(blo, bhi), *cbox = lt_box_of4(clo, chi);
+  return lt_box_of4(blo, bhi);
 }
 
 /* Grows box `i` of a slab's summary (order-preserving ints) with atomics. */
@@ -239,13 +239,14 @@ LT_DEVICE void lt_slab_grow_box(LT_GLOBAL lt_i32 *slab, int i, const lt_box *box
  * into the other array of the ping-pong. Returns 0 when the node is a leaf; else the split,
  * with exact boxes and counts, and its middle in *mid. */
 LT_DEVICE int lt_bvh_split_small(const lt_bvh_build *b, lt_i32 begin, lt_i32 end, lt_i32 depth, const lt_box *bounds,
-                                 const lt_box *cbounds, lt_split *s, lt_i32 *mid) {
+                                 lt_split *s, lt_i32 *mid) {
   lt_i32 n = end - begin;
   LT_GLOBAL lt_i32 *src = lt_bvh_refs(b, depth), *dst = lt_bvh_refs(b, depth + 1);
   lt_bins bins;
   lt_bins_clear(&bins);
   lt_i32 step = lt_bin_step(n);
-  lt_bvh_bin_range(b, src, begin, end, step, cbounds, &bins);
+  int sampled = step > 1;
+  lt_bvh_bin_range(b, src, begin, end, step, !sampled, bounds, &bins);
   *s = lt_sah_best_split(&bins, b->bins, bounds, b->traversal_cost, b->intersection_cost);
   lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)lt_bin_sample_count(n));
   if (lt_sah_make_leaf(n, depth, s, b->max_leaf, b->intersection_cost, LT_BVH_MAX_DEPTH)) return 0;
@@ -253,22 +254,28 @@ LT_DEVICE int lt_bvh_split_small(const lt_bvh_build *b, lt_i32 begin, lt_i32 end
   /* Object median when SAH found no split: the halves keep their order. */
   if (s->axis < 0) {
     *mid = begin + n / 2;
-    lt_bvh_bound_range(b, src, begin, *mid, &s->left, &s->cleft);
-    lt_bvh_bound_range(b, src, *mid, end, &s->right, &s->cright);
+    s->left = lt_bvh_bound_range(b, src, begin, *mid);
+    s->right = lt_bvh_bound_range(b, src, *mid, end);
     for (lt_i32 i = begin; i < end; i++) dst[i] = src[i];
     return 1;
   }
 
-  /* Sides and centroid bounds; the boxes too when the bins saw only a sample (otherwise the
-   * bins had them, as in the chunked phases). Then a stable partition. */
-  lt_bvh_sides sides;
-  int sampled = step > 1;
-  s->left_count = lt_bvh_sides_of(b, src, begin, end, s->axis * 64 + s->bin, cbounds, sampled, &sides);
-  if (sampled) s->left = sides.box[0], s->right = sides.box[1];
-  s->cleft = sides.cbox[0], s->cright = sides.cbox[1];
-  for (lt_i32 i = begin, left = begin, right = begin + s->left_count; i < end; i++) {
-    if (b->side[i]) dst[right++] = src[i];
-    else dst[left++] = src[i];
+  /* A stable partition. When every primitive was binned, the bins gave the boxes and the
+   * left-hand count, and each primitive's bin is in side[]; otherwise a pass over the boxes
+   * notes the sides and bounds both first. */
+  if (sampled) {
+    lt_box box[2];
+    s->left_count = lt_bvh_sides_of(b, src, begin, end, s->axis * 64 + s->bin, bounds, 0, box);
+    s->left = box[0], s->right = box[1];
+    for (lt_i32 i = begin, left = begin, right = begin + s->left_count; i < end; i++) {
+      if (b->side[i]) dst[right++] = src[i];
+      else dst[left++] = src[i];
+    }
+  } else {
+    for (lt_i32 i = begin, left = begin, right = begin + s->left_count; i < end; i++) {
+      if (lt_packed_bin(b->side[i], s->axis) > s->bin) dst[right++] = src[i];
+      else dst[left++] = src[i];
+    }
   }
   lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)n);
   *mid = begin + s->left_count;
@@ -278,7 +285,7 @@ LT_DEVICE int lt_bvh_split_small(const lt_bvh_build *b, lt_i32 begin, lt_i32 end
 /* A node still to be made inside a subtree task: its link's address, range, depth, boxes. */
 typedef struct lt_bvh_pending {
   lt_i32 address, begin, end, depth;
-  lt_box bounds, cbounds;
+  lt_box bounds;
 } lt_bvh_pending;
 
 /* A full build makes the whole subtree of a small node in its task, depth first from a
@@ -291,12 +298,12 @@ LT_DEVICE void lt_bvh_subtree(const lt_bvh_build *b, lt_i32 slot) {
   lt_bvh_pending stack[LT_BVH_MAX_DEPTH + 1], cur;
   cur.address = lt_atomic_load_i32(&task->node), cur.begin = task->begin, cur.end = task->end;
   cur.depth = task->depth;
-  cur.bounds = lt_load_box(task->work + W_BOUNDS), cur.cbounds = lt_load_box(task->work + W_CBOUNDS);
+  cur.bounds = lt_load_box(task->work + W_BOUNDS);
   lt_i32 top = 0, root_link = -1, root_count = 0, root_address = cur.address;
   for (;;) {
     lt_split s;
     lt_i32 mid = cur.end, link, count;
-    if (lt_bvh_split_small(b, cur.begin, cur.end, cur.depth, &cur.bounds, &cur.cbounds, &s, &mid)) {
+    if (lt_bvh_split_small(b, cur.begin, cur.end, cur.depth, &cur.bounds, &s, &mid)) {
       link = lt_atomic_add_i32(&b->pool.control->nodes_next, 1), count = 0;
       if (link >= b->node_capacity) {
         lt_pool_fail(&b->pool, LT_POOL_ERROR_NODES);
@@ -307,7 +314,7 @@ LT_DEVICE void lt_bvh_subtree(const lt_bvh_build *b, lt_i32 slot) {
       lt_bvh_set_child(node, 1, &s.right, -1, 0);
       lt_bvh_pending right;
       right.address = link * 2 + 1, right.begin = mid, right.end = cur.end, right.depth = cur.depth + 1;
-      right.bounds = s.right, right.cbounds = s.cright;
+      right.bounds = s.right;
       stack[top++] = right;
     } else {
       link = cur.begin, count = cur.end - cur.begin;
@@ -320,7 +327,7 @@ LT_DEVICE void lt_bvh_subtree(const lt_bvh_build *b, lt_i32 slot) {
     /* Down the left child of a new node, else the last right child left behind. */
     if (count == 0) {
       cur.address = link * 2, cur.end = mid, cur.depth++;
-      cur.bounds = s.left, cur.cbounds = s.cleft;
+      cur.bounds = s.left;
     } else if (top > 0) {
       cur = stack[--top];
     } else {
@@ -339,11 +346,11 @@ LT_DEVICE void lt_bvh_small(const lt_bvh_build *b, lt_i32 slot) {
     lt_bvh_subtree(b, slot);
     return;
   }
-  lt_box bounds = lt_load_box(task->work + W_BOUNDS), cbounds = lt_load_box(task->work + W_CBOUNDS);
+  lt_box bounds = lt_load_box(task->work + W_BOUNDS);
   lt_split s;
   lt_i32 mid;
-  if (lt_bvh_split_small(b, task->begin, task->end, task->depth, &bounds, &cbounds, &s, &mid))
-    lt_bvh_finish_split(b, slot, mid, &s.left, &s.right, &s.cleft, &s.cright);
+  if (lt_bvh_split_small(b, task->begin, task->end, task->depth, &bounds, &s, &mid))
+    lt_bvh_finish_split(b, slot, mid, &s.left, &s.right);
   else
     lt_bvh_finish_leaf(b, slot);
 }
@@ -360,7 +367,8 @@ LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, in
   LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
   lt_i32 begin = task->begin, end = task->end, phase = task->phase;
   lt_i32 lo = begin + chunk * LT_BVH_CHUNK, hi = lo + LT_BVH_CHUNK < end ? lo + LT_BVH_CHUNK : end;
-  lt_box cbounds = lt_load_box(task->work + W_CBOUNDS);
+  lt_box bounds = lt_load_box(task->work + W_BOUNDS);
+  int sampled = lt_bin_step(end - begin) > 1;
   LT_GLOBAL lt_i32 *slab = b->slabs + (lt_i32)task->work[W_SLAB] * LT_BVH_SLAB_SIZE;
   LT_GLOBAL lt_i32 *src = lt_bvh_refs(b, task->depth), *dst = lt_bvh_refs(b, task->depth + 1);
 
@@ -370,7 +378,7 @@ LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, in
     lt_i32 j0 = chunk * LT_BVH_CHUNK, j1 = j0 + LT_BVH_CHUNK < samples ? j0 + LT_BVH_CHUNK : samples;
     lt_bins bins;
     lt_bins_clear(&bins);
-    lt_bvh_bin_range(b, src, begin + (j0 + lid) * step, begin + j1 * step, lsize * step, &cbounds, &bins);
+    lt_bvh_bin_range(b, src, begin + (j0 + lid) * step, begin + j1 * step, lsize * step, !sampled, &bounds, &bins);
     lt_bins_merge_global(slab, &bins);
     return;
   }
@@ -378,14 +386,12 @@ LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, in
    * retire its own task, because its finisher still counts the chunk done afterwards. */
   if (lid != 0 || phase == LT_BVH_SMALL || phase == LT_BVH_INIT) return;
   if (phase == LT_BVH_COUNT) {
-    /* Each primitive's side, the left-hand count, and both sides' centroid boxes for the
-     * children; their boxes too when binning saw only a sample (otherwise the bins had them). */
-    lt_bvh_sides sides;
-    b->chunk_left[lo] = lt_bvh_sides_of(b, src, lo, hi, task->work[W_SPLIT], &cbounds, lt_bin_step(end - begin) > 1, &sides);
-    for (int side = 0; side < 2; side++) {
-      lt_slab_grow_box(slab, 2 * side, &sides.box[side]);
-      lt_slab_grow_box(slab, 2 * side + 1, &sides.cbox[side]);
-    }
+    /* Each primitive's side and the left-hand count; when binning saw only a sample, both
+     * sides' boxes too (otherwise the bins had them). */
+    lt_box box[2];
+    b->chunk_left[lo] = lt_bvh_sides_of(b, src, lo, hi, task->work[W_SPLIT], &bounds, !sampled, box);
+    if (sampled)
+      for (int side = 0; side < 2; side++) lt_slab_grow_box(slab, side, &box[side]);
   } else if (phase == LT_BVH_SCATTER) {
     /* This chunk's place: COUNT's end turned the chunks' left-hand counts into prefix sums. */
     lt_i32 before = b->chunk_left[lo];
@@ -396,17 +402,14 @@ LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, in
       else dst[left++] = p;
     }
   } else if (phase == LT_BVH_BOXES) {
-    /* Both halves of the object median, merged into the slab's first four boxes, and moved
-     * to the other array as they are. */
+    /* Both halves of the object median, merged into the slab's two boxes, and moved to the
+     * other array as they are. */
     lt_i32 mid = begin + task->work[W_LEFT];
-    lt_box box[2], cbox[2];
-    lt_bvh_bound_range(b, src, lo, hi < mid ? hi : mid, &box[0], &cbox[0]);
-    lt_bvh_bound_range(b, src, lo > mid ? lo : mid, hi, &box[1], &cbox[1]);
+    lt_box box[2];
+    box[0] = lt_bvh_bound_range(b, src, lo, hi < mid ? hi : mid);
+    box[1] = lt_bvh_bound_range(b, src, lo > mid ? lo : mid, hi);
     for (lt_i32 i = lo; i < hi; i++) dst[i] = src[i];
-    for (int side = 0; side < 2; side++) {
-      lt_slab_grow_box(slab, 2 * side, &box[side]);
-      lt_slab_grow_box(slab, 2 * side + 1, &cbox[side]);
-    }
+    for (int side = 0; side < 2; side++) lt_slab_grow_box(slab, side, &box[side]);
   }
 }
 
@@ -466,18 +469,16 @@ LT_DEVICE void lt_bvh_end_phase(const lt_bvh_build *b, lt_i32 slot) {
     /* Object median: the halves keep their order; the next phase bounds them. */
     if (s.axis < 0) {
       lt_box empty = lt_box_empty();
-      for (int i = 0; i < 4; i++) lt_slab_put_box(slab, i, &empty);
+      for (int i = 0; i < 2; i++) lt_slab_put_box(slab, i, &empty);
       task->work[W_SPLIT] = -1;
       task->work[W_LEFT] = n / 2;
       lt_pool_next_phase(&b->pool, slot, LT_BVH_BOXES, chunks);
       return;
     }
-    /* Both sides' boxes: from the bins when every primitive was binned, else grown by COUNT
-     * (which grows the centroid boxes in any case). */
+    /* Both sides' boxes: from the bins when every primitive was binned, else grown by COUNT. */
     lt_box empty = lt_box_empty();
     int sampled = lt_bin_step(n) > 1;
-    lt_slab_put_box(slab, 0, sampled ? &empty : &s.left), lt_slab_put_box(slab, 1, &empty);
-    lt_slab_put_box(slab, 2, sampled ? &empty : &s.right), lt_slab_put_box(slab, 3, &empty);
+    lt_slab_put_box(slab, 0, sampled ? &empty : &s.left), lt_slab_put_box(slab, 1, sampled ? &empty : &s.right);
     task->work[W_SPLIT] = s.axis * 64 + s.bin;
     lt_pool_next_phase(&b->pool, slot, LT_BVH_COUNT, chunks);
   } else if (phase == LT_BVH_COUNT) {
@@ -494,11 +495,10 @@ LT_DEVICE void lt_bvh_end_phase(const lt_bvh_build *b, lt_i32 slot) {
   } else {
     /* SCATTER or BOXES done: the children's boxes are in the slab. */
     if (phase == LT_BVH_SCATTER) lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)n);
-    lt_box left = lt_slab_box(slab, 0), cleft = lt_slab_box(slab, 1);
-    lt_box right = lt_slab_box(slab, 2), cright = lt_slab_box(slab, 3);
+    lt_box left = lt_slab_box(slab, 0), right = lt_slab_box(slab, 1);
     lt_i32 left_end = begin + task->work[W_LEFT];
     lt_bvh_release_slab(b, task);
-    lt_bvh_finish_split(b, slot, left_end, &left, &right, &cleft, &cright);
+    lt_bvh_finish_split(b, slot, left_end, &left, &right);
   }
 }
 

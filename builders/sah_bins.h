@@ -1,5 +1,8 @@
 /* Binned SAH split search shared by the host builder and the pool's node tasks (Wald 2007;
- * the on-demand paper, section 3.4: 32 bins, object median when SAH finds no split).
+ * the on-demand paper, section 3.4: 32 bins, object median when SAH finds no split). A
+ * node's bins divide its bounding box (Wald bins the centroids' bounds, which a node would
+ * have to gather its primitives once more to know; on the generators the trees came out as
+ * good, docs/notes/ondemand_bvh.md), and a primitive falls in the bin of its centroid.
  * Private bins hold float bits; the global slabs that chunks merge into hold the same floats
  * in an order-preserving int encoding, so that atomic integer min and max merge them and the
  * result does not depend on the merge order. */
@@ -67,10 +70,10 @@ LT_DEVICE void lt_tri_bounds(const float *v, lt_box *box, float centroid[3]) {
   }
 }
 
-/* Per-axis bin scale over the centroid bounds; 0 on an axis where all centroids coincide. */
-LT_DEVICE void lt_bin_scale(const lt_box *cbounds, int bins, float scale[3]) {
+/* Per-axis bin scale over a node's box (its grid); 0 on an axis where the box is flat. */
+LT_DEVICE void lt_bin_scale(const lt_box *grid, int bins, float scale[3]) {
   for (int k = 0; k < 3; k++) {
-    float extent = cbounds->hi[k] - cbounds->lo[k];
+    float extent = grid->hi[k] - grid->lo[k];
     scale[k] = extent > 0.0f ? bins / extent : 0.0f;
   }
 }
@@ -97,9 +100,9 @@ LT_DEVICE float lt_area4(lt_v4 lo, lt_v4 hi) {
 }
 
 /* The bin scale as a vector (w = 0). */
-LT_DEVICE lt_v4 lt_bin_scale4(const lt_box *cbounds, int bins) {
+LT_DEVICE lt_v4 lt_bin_scale4(const lt_box *grid, int bins) {
   float scale[3];
-  lt_bin_scale(cbounds, bins, scale);
+  lt_bin_scale(grid, bins, scale);
   return lt_v4_make(scale[0], scale[1], scale[2], 0.0f);
 }
 
@@ -120,16 +123,22 @@ LT_DEVICE void lt_bins_clear(lt_bins *bins) {
 /* Adds one primitive (box lo, hi) to its bin on every axis: the bins of lt_bin_of for the
  * centroid 0.5 * (lo + hi), clamped in float before the conversion (the same bin: truncation
  * and the clamp commute on [0, nbins - 1]) so that the three axes stay in one vector. An axis
- * whose centroids coincide (scale 0) puts everything in its bin 0, where no split is priced. */
-LT_DEVICE void lt_bins_add(lt_bins *bins, lt_v4 clo, lt_v4 scale, int nbins, lt_v4 lo, lt_v4 hi) {
+ * of no extent (scale 0) puts everything in its bin 0, where no split is priced. Returns the
+ * three bins packed a byte each (x lowest), for lt_packed_bin. */
+LT_DEVICE int lt_bins_add(lt_bins *bins, lt_v4 clo, lt_v4 scale, int nbins, lt_v4 lo, lt_v4 hi) {
   lt_v4 t = lt_v4_max(((lo + hi) * 0.5f - clo) * scale, lt_v4_splat(0.0f));
   lt_vi4 k = lt_v4_to_int(lt_v4_min(t, lt_v4_splat((float)(nbins - 1))));
-  int i0 = lt_v4_lane(k, 0), i1 = LT_MAX_BINS + lt_v4_lane(k, 1), i2 = 2 * LT_MAX_BINS + lt_v4_lane(k, 2);
+  int k0 = lt_v4_lane(k, 0), k1 = lt_v4_lane(k, 1), k2 = lt_v4_lane(k, 2);
+  int i0 = k0, i1 = LT_MAX_BINS + k1, i2 = 2 * LT_MAX_BINS + k2;
   bins->count[i0]++, bins->count[i1]++, bins->count[i2]++;
   bins->lo[i0] = lt_v4_min(lo, bins->lo[i0]), bins->hi[i0] = lt_v4_max(hi, bins->hi[i0]);
   bins->lo[i1] = lt_v4_min(lo, bins->lo[i1]), bins->hi[i1] = lt_v4_max(hi, bins->hi[i1]);
   bins->lo[i2] = lt_v4_min(lo, bins->lo[i2]), bins->hi[i2] = lt_v4_max(hi, bins->hi[i2]);
+  return k0 | k1 << 8 | k2 << 16;
 }
+
+/* A primitive's bin on one axis, from lt_bins_add's packed bins. */
+LT_DEVICE int lt_packed_bin(int packed, int axis) { return (packed >> (8 * axis)) & 0xff; }
 
 /* Merges private bins into a global slab with atomics (order-independent). */
 LT_DEVICE void lt_bins_merge_global(LT_GLOBAL lt_i32 *slab, const lt_bins *bins) {
@@ -174,7 +183,6 @@ typedef struct lt_split {
   float cost;             /* SAH cost relative to one triangle test, FLT_MAX-like if none */
   int left_count;         /* of the primitives binned (all, unless the node was sampled) */
   lt_box left, right;     /* bounds of each side's binned primitives */
-  lt_box cleft, cright;   /* centroid bounds of each side: filled by the partition */
 } lt_split;
 
 /* Prices every bin boundary on every axis; keeps the cheapest (the first on ties, axes in
@@ -214,7 +222,7 @@ LT_DEVICE lt_split lt_sah_best_split(const lt_bins *bins, int nbins, const lt_bo
       if (cost < best.cost) best.axis = axis, best.bin = i, best.cost = cost, best.left_count = n, best_x = x;
     }
   }
-  best.left = best.right = best.cleft = best.cright = lt_box_empty();
+  best.left = best.right = lt_box_empty();
   if (best.axis < 0) return best;
 
   /* Both sides' primitive bounds, from the chosen axis's bins. */

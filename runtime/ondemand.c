@@ -22,7 +22,7 @@ typedef struct box_job {
   const lt_scene *scene;
   float *boxes;
   int threads;
-  lt_box bounds[MAX_BOX_THREADS], cbounds[MAX_BOX_THREADS];
+  lt_box bounds[MAX_BOX_THREADS];
 } box_job;
 
 static void box_slice(void *arg) {
@@ -30,7 +30,7 @@ static void box_slice(void *arg) {
   int t = lt__native_group_id;
   size_t n = job->scene->count, begin = n * t / job->threads, end = n * (t + 1) / job->threads;
   lt_v4 inf = lt_v4_splat(INFINITY), ninf = lt_v4_splat(-INFINITY);
-  lt_v4 blo = inf, bhi = ninf, clo = inf, chi = ninf;
+  lt_v4 blo = inf, bhi = ninf;
   lt_v4 *boxes = (lt_v4 *)job->boxes;
   for (size_t i = begin; i < end; i++) {
     /* lt_tri_bounds as vectors: the same comparisons in the same order, lane by lane. */
@@ -38,24 +38,22 @@ static void box_slice(void *arg) {
     lt_v4 a = lt_v4_make(v[0], v[1], v[2], 0.0f), b = lt_v4_make(v[3], v[4], v[5], 0.0f);
     lt_v4 c = lt_v4_make(v[6], v[7], v[8], 0.0f);
     lt_v4 lo = lt_v4_min(c, lt_v4_min(a, b)), hi = lt_v4_max(c, lt_v4_max(a, b));
-    lt_v4 centroid = (lo + hi) * 0.5f;
     boxes[2 * i] = lo, boxes[2 * i + 1] = hi;
     blo = lt_v4_min(lo, blo), bhi = lt_v4_max(hi, bhi);
-    clo = lt_v4_min(centroid, clo), chi = lt_v4_max(centroid, chi);
   }
-  job->bounds[t] = lt_box_of4(blo, bhi), job->cbounds[t] = lt_box_of4(clo, chi);
+  job->bounds[t] = lt_box_of4(blo, bhi);
 }
 
-/* The boxes and the root's bounds and centroid bounds. */
-static lt_status triangle_boxes(const lt_scene *scene, float *boxes, lt_box *bounds, lt_box *cbounds) {
+/* The boxes and the root's bounds. */
+static lt_status triangle_boxes(const lt_scene *scene, float *boxes, lt_box *bounds) {
   box_job job;
   int threads = lt__native_threads();
   job.scene = scene, job.boxes = boxes;
   job.threads = threads < 1 ? 1 : threads > MAX_BOX_THREADS ? MAX_BOX_THREADS : threads;
   if (scene->count < 65536) job.threads = 1;
   lt_status status = lt__native_run(job.threads, box_slice, &job);
-  *bounds = *cbounds = lt_box_empty();
-  for (int t = 0; !status && t < job.threads; t++) lt_box_grow(bounds, &job.bounds[t]), lt_box_grow(cbounds, &job.cbounds[t]);
+  *bounds = lt_box_empty();
+  for (int t = 0; !status && t < job.threads; t++) lt_box_grow(bounds, &job.bounds[t]);
   return status;
 }
 
@@ -74,7 +72,7 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
    * references, partition room, nodes, bin slabs, counters. */
   lt_pool_config config = {pool_capacity, 0, 0, 0, 0};
   size_t n = scene->count;
-  lt_box bounds, cbounds;
+  lt_box bounds;
   lt_status status = lt__pool_create(ctx, &config, mode, &od->pool);
   if (!status) status = lt__buffer_wrap(ctx, &od->verts, scene->tris, n * 9 * sizeof(float));
   if (!status) status = lt__buffer_create(ctx, &od->prim_boxes, n * 8 * sizeof(float), NULL, LT_BUFFER_UNINIT);
@@ -83,7 +81,7 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
     float *boxes = lt__buffer_begin_write(ctx, &od->prim_boxes);
     int *index = lt__buffer_begin_write(ctx, &od->index);
     status = boxes && index ? LT_OK : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for %zu triangles", n);
-    if (!status) status = triangle_boxes(scene, boxes, &bounds, &cbounds);
+    if (!status) status = triangle_boxes(scene, boxes, &bounds);
     for (int i = 0; !status && i < od->count; i++) index[i] = i;
     /* Always hand the staging copies back (OpenCL frees them), whatever happened. */
     lt_status uploaded = boxes ? lt__buffer_end_write(ctx, &od->prim_boxes, boxes) : LT_OK;
@@ -120,8 +118,6 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
     int one_go = ctx->kind == LT_DEVICE_NATIVE ? LT_BVH_ONE_GO : LT_BVH_CHUNK; /* as lt_bvh_spawn */
     lt_task task = {0, od->count, 0, od->count <= one_go ? LT_BVH_SMALL : LT_BVH_INIT, 1, 0, 0, 0, {0}};
     for (int k = 0; k < 3; k++) {
-      task.work[W_CBOUNDS + k] = lt_float_as_int(cbounds.lo[k]);
-      task.work[W_CBOUNDS + 3 + k] = lt_float_as_int(cbounds.hi[k]);
       task.work[W_BOUNDS + k] = lt_float_as_int(bounds.lo[k]);
       task.work[W_BOUNDS + 3 + k] = lt_float_as_int(bounds.hi[k]);
     }
