@@ -19,6 +19,7 @@ typedef struct lt_od_ray {
   lt_ray_setup r;
   lt_hit_record hit;
   lt_i32 stack[LT_BVH_STACK_SIZE];
+  float stack_t[LT_BVH_STACK_SIZE]; /* each far child's entry distance */
   lt_i32 sp;
   lt_i32 cur;  /* next node, a link reference (<= -2), or -1 when done */
   lt_i32 wait; /* link address the ray is suspended on, or -1 */
@@ -52,7 +53,17 @@ LT_DEVICE void lt_od_start(lt_od_ray *q, LT_GLOBAL const float *ray) {
   q->cur = q->r.valid ? 0 : -1;
 }
 
-LT_DEVICE lt_i32 lt_od_pop(lt_od_ray *q) { return q->sp > 0 ? q->stack[--q->sp] : -1; }
+/* The next far child that the best hit so far has not ruled out: its entry distance against
+ * the best is the box test it passed when it was pushed, redone with the best as it is now,
+ * so a far child that a closer hit has since hidden is neither visited nor requested. */
+LT_DEVICE lt_i32 lt_od_pop(lt_od_ray *q) {
+  float best = q->hit.prim >= 0 ? q->hit.t : q->r.tmax;
+  while (q->sp > 0) {
+    q->sp--;
+    if (q->stack_t[q->sp] <= best) return q->stack[q->sp];
+  }
+  return -1;
+}
 
 /* Advances a ray; returns 1 when it is done, 0 when it waits for an unbuilt node. flags are
  * the query flags (LT_QUERY_FLAG_*: any hit, the triangle test, the slab test), which the
@@ -99,12 +110,12 @@ LT_DEVICE int lt_od_trace(const lt_bvh_build *b, lt_od_ray *q, int flags, lt_tra
       go[side] = kind != LT_CHILD_EMPTY && lt_ray_box(&q->r, lo[side], hi[side], best, &t_entry[side]);
       if (!go[side]) continue;
 
-      /* Leaves now; inner nodes go on; unbuilt children are requested at once. */
+      /* Leaves now; inner nodes go on; an unbuilt child is requested when the ray gets
+       * there (the far one may be hidden by then). */
       if (kind == LT_CHILD_LEAF) {
         lt_od_leaf(b, q, link, count, c);
         go[side] = 0;
       } else if (kind == LT_CHILD_UNBUILT) {
-        lt_pool_request(&b->pool, -2 - link, address);
         next[side] = -2 - address;
       } else {
         next[side] = link;
@@ -119,7 +130,8 @@ LT_DEVICE int lt_od_trace(const lt_bvh_build *b, lt_od_ray *q, int flags, lt_tra
         lt_pool_fail(&b->pool, LT_POOL_ERROR_STACK);
         return 1;
       }
-      q->stack[q->sp++] = next[1 - near_side];
+      q->stack[q->sp] = next[1 - near_side], q->stack_t[q->sp] = t_entry[1 - near_side];
+      q->sp++;
       q->cur = next[near_side];
     } else if (go[0] || go[1]) {
       q->cur = go[0] ? next[0] : next[1];
