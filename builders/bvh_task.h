@@ -215,6 +215,19 @@ LT_DEVICE lt_i32 lt_bvh_sides_of(const lt_bvh_build *b, LT_GLOBAL const lt_i32 *
   return left;
 }
 
+/* Writes src[lo, hi) stably into dst, left-hand references from position `left` on and the
+ * others from `right` on. A position's side is side[i] (0 or 1) when `split` is negative,
+ * else its packed bins' bin on the split's axis (axis * 64 + bin) past the split's bin. */
+LT_DEVICE void lt_bvh_scatter(const lt_bvh_build *b, LT_GLOBAL const lt_i32 *src, LT_GLOBAL lt_i32 *dst, lt_i32 lo,
+                              lt_i32 hi, lt_i32 left, lt_i32 right, lt_i32 split) {
+  int axis = split >> 6, bin = split & 63;
+  for (lt_i32 i = lo; i < hi; i++) {
+    int side = split < 0 ? b->side[i] : lt_packed_bin(b->side[i], axis) > bin;
+    if (side) dst[right++] = src[i];
+    else dst[left++] = src[i];
+  }
+}
+
 /* Bounds of refs[lo, hi). */
 LT_DEVICE lt_box lt_bvh_bound_range(const lt_bvh_build *b, LT_GLOBAL const lt_i32 *refs, lt_i32 lo, lt_i32 hi) {
   lt_v4 blo = lt_v4_splat(INFINITY), bhi = lt_v4_splat(-INFINITY);
@@ -263,20 +276,13 @@ LT_DEVICE int lt_bvh_split_small(const lt_bvh_build *b, lt_i32 begin, lt_i32 end
   /* A stable partition. When every primitive was binned, the bins gave the boxes and the
    * left-hand count, and each primitive's bin is in side[]; otherwise a pass over the boxes
    * notes the sides and bounds both first. */
+  lt_i32 split = s->axis * 64 + s->bin;
   if (sampled) {
     lt_box box[2];
-    s->left_count = lt_bvh_sides_of(b, src, begin, end, s->axis * 64 + s->bin, bounds, 0, box);
+    s->left_count = lt_bvh_sides_of(b, src, begin, end, split, bounds, 0, box);
     s->left = box[0], s->right = box[1];
-    for (lt_i32 i = begin, left = begin, right = begin + s->left_count; i < end; i++) {
-      if (b->side[i]) dst[right++] = src[i];
-      else dst[left++] = src[i];
-    }
-  } else {
-    for (lt_i32 i = begin, left = begin, right = begin + s->left_count; i < end; i++) {
-      if (lt_packed_bin(b->side[i], s->axis) > s->bin) dst[right++] = src[i];
-      else dst[left++] = src[i];
-    }
   }
+  lt_bvh_scatter(b, src, dst, begin, end, begin, begin + s->left_count, sampled ? -1 : split);
   lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)n);
   *mid = begin + s->left_count;
   return 1;
@@ -395,12 +401,7 @@ LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, in
   } else if (phase == LT_BVH_SCATTER) {
     /* This chunk's place: COUNT's end turned the chunks' left-hand counts into prefix sums. */
     lt_i32 before = b->chunk_left[lo];
-    lt_i32 left = begin + before, right = begin + task->work[W_LEFT] + (lo - begin - before);
-    for (lt_i32 i = lo; i < hi; i++) {
-      lt_i32 p = src[i];
-      if (b->side[i]) dst[right++] = p;
-      else dst[left++] = p;
-    }
+    lt_bvh_scatter(b, src, dst, lo, hi, begin + before, begin + task->work[W_LEFT] + (lo - begin - before), -1);
   } else if (phase == LT_BVH_BOXES) {
     /* Both halves of the object median, merged into the slab's two boxes, and moved to the
      * other array as they are. */

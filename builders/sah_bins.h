@@ -59,17 +59,6 @@ LT_DEVICE float lt_box_area(const lt_box *b) {
   return 2.0f * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
 }
 
-/* The box and centroid of a triangle given as 9 floats. */
-LT_DEVICE void lt_tri_bounds(const float *v, lt_box *box, float centroid[3]) {
-  for (int k = 0; k < 3; k++) {
-    float a = v[k], b = v[3 + k], c = v[6 + k];
-    float lo = a < b ? a : b, hi = a > b ? a : b;
-    box->lo[k] = c < lo ? c : lo;
-    box->hi[k] = c > hi ? c : hi;
-    centroid[k] = 0.5f * (box->lo[k] + box->hi[k]);
-  }
-}
-
 /* Per-axis bin scale over a node's box (its grid); 0 on an axis where the box is flat. */
 LT_DEVICE void lt_bin_scale(const lt_box *grid, int bins, float scale[3]) {
   for (int k = 0; k < 3; k++) {
@@ -89,6 +78,21 @@ LT_DEVICE lt_box lt_box_of4(lt_v4 lo, lt_v4 hi) {
   lt_box b;
   for (int k = 0; k < 3; k++) b.lo[k] = lt_v4_lane(lo, k), b.hi[k] = lt_v4_lane(hi, k);
   return b;
+}
+
+/* The box of a triangle given as 9 floats, as two vectors (w 0). */
+LT_DEVICE void lt_tri_box4(const float *v, lt_v4 *lo, lt_v4 *hi) {
+  lt_v4 a = lt_v4_make(v[0], v[1], v[2], 0.0f), b = lt_v4_make(v[3], v[4], v[5], 0.0f);
+  lt_v4 c = lt_v4_make(v[6], v[7], v[8], 0.0f);
+  *lo = lt_v4_min(c, lt_v4_min(a, b)), *hi = lt_v4_max(c, lt_v4_max(a, b));
+}
+
+/* The box and centroid of a triangle given as 9 floats. */
+LT_DEVICE void lt_tri_bounds(const float *v, lt_box *box, float centroid[3]) {
+  lt_v4 lo, hi;
+  lt_tri_box4(v, &lo, &hi);
+  *box = lt_box_of4(lo, hi);
+  for (int k = 0; k < 3; k++) centroid[k] = 0.5f * (box->lo[k] + box->hi[k]);
 }
 
 /* Surface area of a box given as two vectors; the same float as lt_box_area (an extent is

@@ -33,11 +33,8 @@ static void box_slice(void *arg) {
   lt_v4 blo = inf, bhi = ninf;
   lt_v4 *boxes = (lt_v4 *)job->boxes;
   for (size_t i = begin; i < end; i++) {
-    /* lt_tri_bounds as vectors: the same comparisons in the same order, lane by lane. */
-    const float *v = job->scene->tris + 9 * i;
-    lt_v4 a = lt_v4_make(v[0], v[1], v[2], 0.0f), b = lt_v4_make(v[3], v[4], v[5], 0.0f);
-    lt_v4 c = lt_v4_make(v[6], v[7], v[8], 0.0f);
-    lt_v4 lo = lt_v4_min(c, lt_v4_min(a, b)), hi = lt_v4_max(c, lt_v4_max(a, b));
+    lt_v4 lo, hi;
+    lt_tri_box4(job->scene->tris + 9 * i, &lo, &hi);
     boxes[2 * i] = lo, boxes[2 * i + 1] = hi;
     blo = lt_v4_min(lo, blo), bhi = lt_v4_max(hi, bhi);
   }

@@ -53,11 +53,14 @@ LT_DEVICE void lt_od_start(lt_od_ray *q, LT_GLOBAL const float *ray) {
   q->cur = q->r.valid ? 0 : -1;
 }
 
+/* The distance a box must be entered by to matter: the best hit so far, or the ray's end. */
+LT_DEVICE float lt_od_best(const lt_od_ray *q) { return q->hit.prim >= 0 ? q->hit.t : q->r.tmax; }
+
 /* The next far child that the best hit so far has not ruled out: its entry distance against
  * the best is the box test it passed when it was pushed, redone with the best as it is now,
  * so a far child that a closer hit has since hidden is neither visited nor requested. */
 LT_DEVICE lt_i32 lt_od_pop(lt_od_ray *q) {
-  float best = q->hit.prim >= 0 ? q->hit.t : q->r.tmax;
+  float best = lt_od_best(q);
   while (q->sp > 0) {
     q->sp--;
     if (q->stack_t[q->sp] <= best) return q->stack[q->sp];
@@ -100,7 +103,7 @@ LT_DEVICE int lt_od_trace(const lt_bvh_build *b, lt_od_ray *q, int flags, lt_tra
     lt_float4 lxy = n->left_xy, rxy = n->right_xy, z = n->lr_z;
     float lo[2][3] = {{lxy.x, lxy.z, z.x}, {rxy.x, rxy.z, z.z}};
     float hi[2][3] = {{lxy.y, lxy.w, z.y}, {rxy.y, rxy.w, z.w}};
-    float best = q->hit.prim >= 0 ? q->hit.t : q->r.tmax;
+    float best = lt_od_best(q);
     lt_i32 next[2];
     float t_entry[2];
     int go[2];
