@@ -32,7 +32,7 @@ table=$(build/benchmarks/bench_accuracy "$@" --csv $R/accuracy.csv)
   echo "  their time differences are within the noise of this 2-core machine unless the table says otherwise."
   echo "- SAH bins and leaf size change the tree, not the answers: every row keeps zero leaks and the same"
   echo "  disagreements; they trade build time against the SAH cost (a proxy for trace time). The 64-bin and"
-  echo "  full-sweep rows come from a single-threaded host builder (\`builders/bvh_sweep.c\`), so their build times"
+  echo "  full-sweep rows come from a single-threaded host builder (\`builders/host/bvh_sweep.c\`), so their build times"
   echo "  compare with its own 32-bin row, not with the pool's two work-groups; the pool's builder stops at 32 bins."
   echo "- The pool's builder prices the splits of nodes above 16384 primitives on a regular sample of at most"
   echo "  16384 of them (builders/sah_bins.h); the host reference bins every primitive. Compare their 32-bin"

@@ -18,9 +18,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "builders/bvh_sweep.h"
+#include "builders/host/bvh_sweep.h"
 #include "lazytrace.h"
-#include "runtime/ondemand_internal.h"
+#include "runtime/bvh_ondemand_host.h"
 #include "runtime/structure_internal.h"
 #include "tests/hard_cases.h"
 #include "tests/support.h"

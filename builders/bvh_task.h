@@ -8,17 +8,21 @@
 #define LT_BVH_TASK_H
 
 #include "builders/sah_bins.h"
-#include "kernels/pool.h"
-#include "kernels/shared_types.h"
+#include "device/pool.h"
+#include "device/bvh_node.h"
 
 #define LT_BVH_CHUNK 2048  /* primitives per work chunk */
-#ifndef LT_BVH_ONE_GO
-#define LT_BVH_ONE_GO LT_BVH_CHUNK /* split in one go up to here (the backend may say more) */
+/* A node of up to LT_BVH_ONE_GO primitives is split in one go by one work-group. On the native
+ * backend a group is one thread and there are as many other nodes as groups, so the pool's
+ * chunked phases below 16384 cost more in merges and hand-offs than they share; OpenCL keeps
+ * one chunk. */
+#define LT_BVH_ONE_GO_NATIVE 16384
+#ifdef __OPENCL_VERSION__
+#define LT_BVH_ONE_GO LT_BVH_CHUNK
+#else
+#define LT_BVH_ONE_GO LT_BVH_ONE_GO_NATIVE
 #endif
 #define LT_BVH_SLAB_SIZE LT_BINS_SIZE
-
-/* An unbuilt child link holds its task's slot: link = -2 - slot (count 0). */
-#define LT_LINK_UNBUILT(slot) (-2 - (slot))
 
 /* Phases. */
 #define LT_BVH_SMALL 0   /* one chunk does everything */
@@ -84,32 +88,6 @@ LT_DEVICE void lt_bvh_leaf_refs(const lt_bvh_build *b, lt_i32 depth, lt_i32 begi
     for (lt_i32 i = begin; i < end; i++) b->index[i] = b->scratch[i];
 }
 
-/* Writes one child of a node: its box and its link (already final or still unbuilt). */
-LT_DEVICE void lt_bvh_set_child(LT_GLOBAL lt_bvh_node *node, int side, const lt_box *x, lt_i32 link, lt_i32 count) {
-  if (side == 0) {
-    node->left_xy = lt_make_float4(x->lo[0], x->hi[0], x->lo[1], x->hi[1]);
-    node->lr_z.x = x->lo[2], node->lr_z.y = x->hi[2];
-    lt_atomic_store_i32(&node->link[2], count);
-    lt_atomic_store_i32(&node->link[0], link);
-  } else {
-    node->right_xy = lt_make_float4(x->lo[0], x->hi[0], x->lo[1], x->hi[1]);
-    node->lr_z.z = x->lo[2], node->lr_z.w = x->hi[2];
-    lt_atomic_store_i32(&node->link[3], count);
-    lt_atomic_store_i32(&node->link[1], link);
-  }
-}
-
-/* Replaces the unbuilt link at `address` (node * 2 + side): the count first, then the link,
- * so that a traversal reading the link and then the count never sees half of it. */
-LT_DEVICE void lt_bvh_link(const lt_bvh_build *b, lt_i32 address, lt_i32 link, lt_i32 count) {
-  LT_GLOBAL lt_bvh_node *node = &b->nodes[address >> 1];
-  LT_GLOBAL lt_i32 *link_field = (address & 1) ? &node->link[1] : &node->link[0];
-  LT_GLOBAL lt_i32 *count_field = (address & 1) ? &node->link[3] : &node->link[2];
-  if (count > 0) lt_atomic_store_i32(count_field, count);
-  lt_fence();
-  lt_atomic_store_i32(link_field, link);
-}
-
 /* Inserts the task that will build child `side` of node `node` over [begin, end). */
 LT_DEVICE void lt_bvh_spawn(const lt_bvh_build *b, lt_i32 node, int side, lt_i32 begin, lt_i32 end, lt_i32 depth,
                             const lt_box *bounds) {
@@ -123,13 +101,13 @@ LT_DEVICE void lt_bvh_spawn(const lt_bvh_build *b, lt_i32 node, int side, lt_i32
   }
   lt_i32 slot = lt_pool_insert(&b->pool, node * 2 + side, begin, end, depth, 1); /* SMALL or INIT: one chunk */
   if (slot < 0) {
-    lt_bvh_set_child(n, side, bounds, -1, 0);
+    lt_bvh_set_child(n, side, bounds, LT_BVH_LINK_EMPTY, 0);
     return;
   }
   LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
   task->phase = count <= LT_BVH_ONE_GO ? LT_BVH_SMALL : LT_BVH_INIT;
   lt_store_box(task->work + W_BOUNDS, bounds);
-  lt_bvh_set_child(n, side, bounds, LT_LINK_UNBUILT(slot), 0);
+  lt_bvh_set_child(n, side, bounds, lt_bvh_unbuilt_link(slot), 0);
   lt_pool_publish(&b->pool, slot);
 }
 
@@ -144,7 +122,7 @@ LT_DEVICE void lt_bvh_finish_split(const lt_bvh_build *b, lt_i32 slot, lt_i32 le
   }
   lt_bvh_spawn(b, node, 0, task->begin, left_end, task->depth + 1, left);
   lt_bvh_spawn(b, node, 1, left_end, task->end, task->depth + 1, right);
-  lt_bvh_link(b, lt_atomic_load_i32(&task->node), node, 0);
+  lt_bvh_publish_link(b->nodes, lt_atomic_load_i32(&task->node), node, 0);
   lt_pool_retire(&b->pool, slot);
 }
 
@@ -152,7 +130,7 @@ LT_DEVICE void lt_bvh_finish_leaf(const lt_bvh_build *b, lt_i32 slot) {
   LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
   lt_bvh_count(b, LT_BVH_STAT_LEAVES, 1);
   lt_bvh_leaf_refs(b, task->depth, task->begin, task->end);
-  lt_bvh_link(b, lt_atomic_load_i32(&task->node), task->begin, task->end - task->begin);
+  lt_bvh_publish_link(b->nodes, lt_atomic_load_i32(&task->node), task->begin, task->end - task->begin);
   lt_pool_retire(&b->pool, slot);
 }
 
@@ -316,8 +294,8 @@ LT_DEVICE void lt_bvh_subtree(const lt_bvh_build *b, lt_i32 slot) {
         return;
       }
       LT_GLOBAL lt_bvh_node *node = &b->nodes[link];
-      lt_bvh_set_child(node, 0, &s.left, -1, 0);
-      lt_bvh_set_child(node, 1, &s.right, -1, 0);
+      lt_bvh_set_child(node, 0, &s.left, LT_BVH_LINK_EMPTY, 0);
+      lt_bvh_set_child(node, 1, &s.right, LT_BVH_LINK_EMPTY, 0);
       lt_bvh_pending right;
       right.address = link * 2 + 1, right.begin = mid, right.end = cur.end, right.depth = cur.depth + 1;
       right.bounds = s.right;
@@ -328,7 +306,7 @@ LT_DEVICE void lt_bvh_subtree(const lt_bvh_build *b, lt_i32 slot) {
       lt_bvh_count(b, LT_BVH_STAT_LEAVES, 1);
     }
     if (cur.address == root_address) root_link = link, root_count = count;
-    else lt_bvh_link(b, cur.address, link, count);
+    else lt_bvh_publish_link(b->nodes, cur.address, link, count);
 
     /* Down the left child of a new node, else the last right child left behind. */
     if (count == 0) {
@@ -340,7 +318,7 @@ LT_DEVICE void lt_bvh_subtree(const lt_bvh_build *b, lt_i32 slot) {
       break;
     }
   }
-  lt_bvh_link(b, root_address, root_link, root_count);
+  lt_bvh_publish_link(b->nodes, root_address, root_link, root_count);
   lt_pool_retire(&b->pool, slot);
 }
 

@@ -7,7 +7,7 @@
 #ifndef LT_LAZY_SORT_H
 #define LT_LAZY_SORT_H
 
-#include "kernels/pool.h"
+#include "device/pool.h"
 
 #define LT_SORT_CHUNK 256 /* elements per work chunk */
 #define LT_SORT_LEAF 32   /* ranges this small are sorted at once by their parent */

@@ -4,7 +4,7 @@
 
 #include <stdint.h>
 
-#include "kernels/shared_types.h"
+#include "device/bvh_node.h"
 
 typedef struct lt__native_trace_args {
   const float *rays; /* 8 floats a ray */

@@ -3,7 +3,7 @@
 #include <stdlib.h>
 #include <unistd.h>
 
-#include "kernels/compat.h"
+#include "device/compat.h"
 #include "runtime/context_internal.h"
 #include "runtime/error.h"
 

@@ -2,13 +2,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "builders/bvh_sah.h"
-#include "builders/lbvh.h"
+#include "builders/host/bvh_sah.h"
+#include "builders/host/lbvh.h"
 #include "kernels/native_kernels.h"
 #include "runtime/context_internal.h"
 #include "runtime/error.h"
 #include "runtime/stats_internal.h"
-#include "runtime/ondemand_internal.h"
+#include "runtime/bvh_ondemand_host.h"
 #include "runtime/structure_internal.h"
 #include "scenes/scene_internal.h"
 #include "traversal/ray.h"

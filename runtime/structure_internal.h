@@ -4,7 +4,7 @@
 #ifndef LT_STRUCTURE_INTERNAL_H
 #define LT_STRUCTURE_INTERNAL_H
 
-#include "builders/bvh_sah.h"
+#include "builders/host/bvh_sah.h"
 #include "lazytrace.h"
 
 /* The brute-force reference with query flags (LT_QUERY_FLAG_*) instead of a query kind. */
@@ -14,7 +14,7 @@ lt_status lt__reference_trace_flags(const lt_scene *scene, const lt_ray *rays, s
 void lt__structure_set_flags(lt_structure *structure, int flags);
 /* The query flags a trace of this structure uses for a query kind. */
 int lt__structure_flags(const lt_structure *structure, int query);
-/* A structure over a tree built on the host (builders/bvh_sweep.c, ...), traced by the trace
+/* A structure over a tree built on the host (builders/host/bvh_sweep.c, ...), traced by the trace
  * kernel like the LBVH; takes the tree's arrays (bvh is left empty). */
 lt_status lt__structure_from_bvh(lt_context *ctx, const lt_scene *scene, lt__bvh *bvh, lt_structure **out);
 

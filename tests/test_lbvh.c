@@ -12,9 +12,9 @@
 
 #include <cmocka.h>
 
-#include "builders/bvh_sah.h"
-#include "builders/lbvh.h"
-#include "kernels/shared_types.h"
+#include "builders/host/bvh_sah.h"
+#include "builders/host/lbvh.h"
+#include "device/types.h"
 #include "tests/support.h"
 #include "traversal/bvh_traverse.h"
 #include "traversal/intersect_triangle.h"

@@ -11,8 +11,8 @@
 
 #include <cmocka.h>
 
-#include "builders/bvh_sah.h"
-#include "runtime/ondemand_internal.h"
+#include "builders/host/bvh_sah.h"
+#include "runtime/bvh_ondemand_host.h"
 #include "tests/support.h"
 
 #define CAMERA_SIZE 24

@@ -1,4 +1,4 @@
-/* The task pool: its operations one by one on host arrays (kernels/pool.h compiled as C), and
+/* The task pool: its operations one by one on host arrays (device/pool.h compiled as C), and
  * the whole scheduler through its own workload, the lazy sort, on both backends. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -8,7 +8,7 @@
 
 #include <cmocka.h>
 
-#include "kernels/pool.h"
+#include "device/pool.h"
 #include "tests/support.h"
 
 /* ---- A pool on host arrays, driven by hand from one thread ---- */

@@ -16,7 +16,7 @@
 
 #include <cmocka.h>
 
-#include "runtime/ondemand_internal.h"
+#include "runtime/bvh_ondemand_host.h"
 #include "runtime/structure_internal.h"
 #include "tests/hard_cases.h"
 #include "tests/support.h"

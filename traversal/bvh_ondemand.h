@@ -8,12 +8,6 @@
 #include "builders/bvh_task.h"
 #include "traversal/ray_box.h"
 
-/* What a child link holds. */
-#define LT_CHILD_EMPTY 0
-#define LT_CHILD_INNER 1
-#define LT_CHILD_LEAF 2
-#define LT_CHILD_UNBUILT 3
-
 /* A ray in flight: enough state to suspend and resume. */
 typedef struct lt_od_ray {
   lt_ray_setup r;
@@ -24,17 +18,6 @@ typedef struct lt_od_ray {
   lt_i32 cur;  /* next node, a link reference (<= -2), or -1 when done */
   lt_i32 wait; /* link address the ray is suspended on, or -1 */
 } lt_od_ray;
-
-/* Reads the link at `address` (node * 2 + side): the link first, then the count. */
-LT_DEVICE int lt_read_link(LT_GLOBAL const lt_bvh_node *nodes, lt_i32 address, lt_i32 *link, lt_i32 *count) {
-  LT_GLOBAL const lt_bvh_node *n = &nodes[address >> 1];
-  *link = lt_atomic_load_i32((address & 1) ? &n->link[1] : &n->link[0]);
-  lt_fence();
-  *count = lt_atomic_load_i32((address & 1) ? &n->link[3] : &n->link[2]);
-  if (*link <= -2) return LT_CHILD_UNBUILT;
-  if (*count > 0) return LT_CHILD_LEAF;
-  return *link >= 0 ? LT_CHILD_INNER : LT_CHILD_EMPTY;
-}
 
 LT_DEVICE void lt_od_leaf(const lt_bvh_build *b, lt_od_ray *q, lt_i32 first, lt_i32 count, lt_trace_counters *c) {
   for (lt_i32 i = first; i < first + count; i++) {
@@ -81,7 +64,7 @@ LT_DEVICE int lt_od_trace(const lt_bvh_build *b, lt_od_ray *q, int flags, lt_tra
     /* A link reference: resolve it, or suspend on it. */
     if (q->cur <= -2) {
       lt_i32 address = -2 - q->cur, link, count;
-      int kind = lt_read_link(nodes, address, &link, &count);
+      int kind = lt_bvh_read_link(nodes, address, &link, &count);
       if (kind == LT_CHILD_UNBUILT) {
         if (q->wait != address) {
           lt_pool_request(&b->pool, -2 - link, address);
@@ -109,7 +92,7 @@ LT_DEVICE int lt_od_trace(const lt_bvh_build *b, lt_od_ray *q, int flags, lt_tra
     int go[2];
     for (int side = 0; side < 2; side++) {
       lt_i32 address = q->cur * 2 + side, link, count;
-      int kind = lt_read_link(nodes, address, &link, &count);
+      int kind = lt_bvh_read_link(nodes, address, &link, &count);
       go[side] = kind != LT_CHILD_EMPTY && lt_ray_box(&q->r, lo[side], hi[side], best, &t_entry[side]);
       if (!go[side]) continue;
 

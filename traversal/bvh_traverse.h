@@ -4,6 +4,7 @@
 #ifndef LT_BVH_TRAVERSE_H
 #define LT_BVH_TRAVERSE_H
 
+#include "device/bvh_node.h"
 #include "traversal/ray_box.h"
 
 LT_DEVICE void lt_leaf_intersect(const lt_ray_setup *r, LT_GLOBAL const lt_tri *tris, int first,

@@ -3,14 +3,13 @@
  * for ray tracing using space subdivision", 1990), or binning with any number of bins (Wald
  * 2007) where the pool's builder stops at LT_MAX_BINS. Single-threaded and O(n log^2 n): it
  * exists to price what binning gives up, not to be fast. */
-#include "builders/bvh_sweep.h"
+#include "builders/host/bvh_sweep.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "builders/sah_bins.h"
-#include "runtime/error.h"
 
 typedef struct sweeper {
   const lt__sah_config *config;
@@ -159,13 +158,13 @@ static void build(sweeper *s, int begin, int end, int depth, lt_box *bounds, int
   build(s, begin, mid, depth + 1, &box[0], &child_link[0], &child_count[0]);
   build(s, mid, end, depth + 1, &box[1], &child_link[1], &child_count[1]);
   for (int side = 0; side < 2; side++)
-    lt__bvh_set_child(&bvh->nodes[node], side, &box[side], child_link[side], child_count[side]);
+    lt_bvh_write_child(&bvh->nodes[node], side, &box[side], child_link[side], child_count[side]);
 }
 
 lt_status lt__bvh_build_sweep(const float *tris, size_t n, const lt__sah_config *config, int bins, lt__bvh *out) {
-  if (n == 0 || n > INT32_MAX / 4) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "sweep BVH build: %zu triangles", n);
+  if (n == 0 || n > INT32_MAX / 4) return LT_ERROR_INVALID_ARGUMENT;
   if (bins < 0 || bins == 1 || config->max_leaf_size < 1)
-    return lt__fail(LT_ERROR_INVALID_ARGUMENT, "sweep BVH build: bins must be 0 (sweep) or at least 2");
+    return LT_ERROR_INVALID_ARGUMENT;
   memset(out, 0, sizeof *out);
   size_t scratch_floats = bins ? 2 * (size_t)bins : n;
   sweeper s = {config, bins, malloc(n * sizeof(lt_box)), malloc(3 * n * sizeof(float)), malloc(n * sizeof(int)),
@@ -175,7 +174,7 @@ lt_status lt__bvh_build_sweep(const float *tris, size_t n, const lt__sah_config 
   if (!s.prim_box || !s.centroid || !s.index || !s.scratch || !s.left_area || !out->nodes || !out->tris) {
     free(s.prim_box), free(s.centroid), free(s.index), free(s.scratch), free(s.left_area);
     lt__bvh_free(out);
-    return lt__fail(LT_ERROR_OUT_OF_MEMORY, "sweep BVH build: out of memory for %zu triangles", n);
+    return LT_ERROR_OUT_OF_MEMORY;
   }
   for (size_t i = 0; i < n; i++) {
     lt_tri_bounds(tris + 9 * i, &s.prim_box[i], &s.centroid[3 * i]);

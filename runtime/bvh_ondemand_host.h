@@ -3,8 +3,8 @@
 #ifndef LT_ONDEMAND_INTERNAL_H
 #define LT_ONDEMAND_INTERNAL_H
 
-#include "builders/bvh_sah.h"
-#include "runtime/pool_internal.h"
+#include "builders/host/bvh_sah.h"
+#include "runtime/pool_host.h"
 
 typedef struct lt__ondemand {
   lt_context *ctx;

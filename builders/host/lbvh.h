@@ -4,7 +4,7 @@
 
 #include <stddef.h>
 
-#include "builders/bvh_sah.h"
+#include "builders/host/bvh_sah.h"
 
 /* Builds over n triangles of 9 floats each into the flat format of lt__bvh_build_sah (free it
  * with lt__bvh_free). A NULL config means lt__sah_config_default(). Of the config, leaves hold at

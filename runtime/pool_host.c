@@ -1,5 +1,5 @@
-/* The host half of the task pool (see pool_internal.h and kernels/pool.h). */
-#include "runtime/pool_internal.h"
+/* The host half of the task pool (see pool_internal.h and device/pool.h). */
+#include "runtime/pool_host.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -35,13 +35,6 @@ typedef int32_t lt_vi4 __attribute__((vector_size(16)));
 #define lt_v4_make(a, b, c, d) ((lt_v4){(a), (b), (c), (d)})
 #define lt_v4_splat(a) ((lt_v4){(a), (a), (a), (a)})
 #define lt_v4_to_int(v) __builtin_convertvector((v), lt_vi4) /* toward zero, like (int) */
-/* The slab test runs its three axes as one vector here (traversal/ray.h); PoCL vectorises the
- * scalar form across work-items itself and was 35% slower tracing with the vector form. */
-#define LT_VECTOR_SLABS 1
-/* A BVH node of up to this many primitives is split in one go by one work-group (the pool's
- * chunked phases below it cost more in merges and hand-offs than they share here, where a
- * group is one thread and there are as many other nodes as groups); OpenCL keeps one chunk. */
-#define LT_BVH_ONE_GO 16384
 /* A hint that *p is read soon (the builders gather primitive boxes through the index). */
 #define lt_prefetch(p) __builtin_prefetch(p)
 #if defined(__SSE__)

@@ -2,7 +2,7 @@
 #ifndef LT_BVH_SWEEP_H
 #define LT_BVH_SWEEP_H
 
-#include "builders/bvh_sah.h"
+#include "builders/host/bvh_sah.h"
 
 /* Builds over n triangles of 9 floats each; bins 0 sweeps every primitive boundary, bins >= 2
  * bins the centroids (without the pool builder's limit of LT_MAX_BINS). config gives the leaf

@@ -2,7 +2,7 @@
 #ifndef LT_POOL_INTERNAL_H
 #define LT_POOL_INTERNAL_H
 
-#include "kernels/pool.h"
+#include "device/pool.h"
 #include "runtime/buffer.h"
 
 typedef struct lt__pool {

@@ -1,14 +1,13 @@
 /* HLBVH_4 of the on-demand paper: Karras's split rule over sorted Morton codes (Karras, "Maximizing
  * Parallelism in the Construction of BVHs, Octrees, and k-d Trees", HPG 2012) inside clusters sharing
  * the top 12 code bits, binned SAH above them (HLBVH: Pantaleoni and Luebke 2010; pbrt-v3 4.3.3). */
-#include "builders/lbvh.h"
+#include "builders/host/lbvh.h"
 
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "runtime/error.h"
 
 #define AXIS_BITS   10
 #define MORTON_BITS (3 * AXIS_BITS)
@@ -71,15 +70,9 @@ static float box_area(const box *b) {
 }
 
 static void set_child(lt_bvh_node *node, int side, const child *c) {
-  if (side == 0) {
-    node->left_xy = (lt_float4){c->bounds.lo[0], c->bounds.hi[0], c->bounds.lo[1], c->bounds.hi[1]};
-    node->lr_z.x = c->bounds.lo[2], node->lr_z.y = c->bounds.hi[2];
-    node->link[0] = c->link, node->link[2] = c->count;
-  } else {
-    node->right_xy = (lt_float4){c->bounds.lo[0], c->bounds.hi[0], c->bounds.lo[1], c->bounds.hi[1]};
-    node->lr_z.z = c->bounds.lo[2], node->lr_z.w = c->bounds.hi[2];
-    node->link[1] = c->link, node->link[3] = c->count;
-  }
+  lt_box x;
+  for (int k = 0; k < 3; k++) x.lo[k] = c->bounds.lo[k], x.hi[k] = c->bounds.hi[k];
+  lt_bvh_write_child(node, side, &x, c->link, c->count);
 }
 
 /* ---- Morton codes and their sort ---- */
@@ -408,10 +401,9 @@ lt_status lt__bvh_build_lbvh_limited(const float *tris, size_t n, const lt__sah_
   lt__sah_config defaults = lt__sah_config_default();
   if (!config) config = &defaults;
   if (!tris || !out || n == 0 || n > INT32_MAX / 2)
-    return lt__fail(LT_ERROR_INVALID_ARGUMENT, "LBVH build: %zu triangles", n);
+    return LT_ERROR_INVALID_ARGUMENT;
   if (config->bins < 2 || config->max_leaf_size < 1 || depth_limit < 2 || depth_limit > LT_BVH_MAX_DEPTH)
-    return lt__fail(LT_ERROR_INVALID_ARGUMENT, "LBVH build: bins must be at least 2, leaves at least 1, depth 2..%d",
-                    LT_BVH_MAX_DEPTH);
+    return LT_ERROR_INVALID_ARGUMENT;
 
   /* Everything is allocated up front: n inner nodes are enough, as every inner node but the
    * single-leaf root has two non-empty children. */
@@ -429,7 +421,7 @@ lt_status lt__bvh_build_lbvh_limited(const float *tris, size_t n, const lt__sah_
     build_all(tris, n, config, depth_limit, &s, out);
   } else {
     lt__bvh_free(out);
-    status = lt__fail(LT_ERROR_OUT_OF_MEMORY, "LBVH build: out of memory for %zu triangles", n);
+    status = LT_ERROR_OUT_OF_MEMORY;
   }
   free(s.prim_box), free(s.sorted_box), free(s.keys), free(s.tmp), free(s.clusters), free(s.cluster_index);
   return status;

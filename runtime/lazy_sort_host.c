@@ -5,7 +5,7 @@
 #include "kernels/lazy_sort.h"
 #include "kernels/native_kernels.h"
 #include "runtime/error.h"
-#include "runtime/pool_internal.h"
+#include "runtime/pool_host.h"
 #include "runtime/stats_internal.h"
 
 struct lt_lazy_sort {

@@ -1,14 +1,13 @@
 /* Full binned-SAH BVH build (Wald, "On fast Construction of SAH-based Bounding Volume
  * Hierarchies", 2007), with the parameters of the on-demand paper (Vinkler et al. 2016,
  * section 3.3): 32 bins, leaves of at most 16 triangles or when SAH says stop. */
-#include "builders/bvh_sah.h"
+#include "builders/host/bvh_sah.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "builders/sah_bins.h"
-#include "runtime/error.h"
 
 typedef struct builder {
   const float *tris;
@@ -64,25 +63,13 @@ static int partition(builder *b, int begin, int end, const lt_split *s, const lt
   return left;
 }
 
-void lt__bvh_set_child(lt_bvh_node *node, int side, const lt_box *x, int link, int count) {
-  if (side == 0) {
-    node->left_xy = lt_make_float4(x->lo[0], x->hi[0], x->lo[1], x->hi[1]);
-    node->lr_z.x = x->lo[2], node->lr_z.y = x->hi[2];
-    node->link[0] = link, node->link[2] = count;
-  } else {
-    node->right_xy = lt_make_float4(x->lo[0], x->hi[0], x->lo[1], x->hi[1]);
-    node->lr_z.z = x->lo[2], node->lr_z.w = x->hi[2];
-    node->link[1] = link, node->link[3] = count;
-  }
-}
-
 void lt__bvh_finish(lt__bvh *out, const float *tris, const int *leaf_order, size_t n, const lt_box *root, int link,
                     int count) {
   if (count > 0) {
     lt_box empty = lt_box_empty();
     out->node_count = 1;
-    lt__bvh_set_child(&out->nodes[0], 0, root, link, count);
-    lt__bvh_set_child(&out->nodes[0], 1, &empty, -1, 0);
+    lt_bvh_write_child(&out->nodes[0], 0, root, link, count);
+    lt_bvh_write_child(&out->nodes[0], 1, &empty, LT_BVH_LINK_EMPTY, 0);
   }
   for (size_t i = 0; i < n; i++) {
     const float *t = tris + 9 * (size_t)leaf_order[i];
@@ -125,14 +112,14 @@ static void build(builder *b, int begin, int end, int depth, child *out) {
   child left, right;
   build(b, begin, mid, depth + 1, &left);
   build(b, mid, end, depth + 1, &right);
-  lt__bvh_set_child(&bvh->nodes[node], 0, &left.bounds, left.link, left.count);
-  lt__bvh_set_child(&bvh->nodes[node], 1, &right.bounds, right.link, right.count);
+  lt_bvh_write_child(&bvh->nodes[node], 0, &left.bounds, left.link, left.count);
+  lt_bvh_write_child(&bvh->nodes[node], 1, &right.bounds, right.link, right.count);
 }
 
 lt_status lt__bvh_build_sah(const float *tris, size_t n, const lt__sah_config *config, lt__bvh *out) {
-  if (n == 0 || n > INT32_MAX / 2) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "BVH build: %zu triangles", n);
+  if (n == 0 || n > INT32_MAX / 2) return LT_ERROR_INVALID_ARGUMENT;
   if (config->bins < 2 || config->bins > LT_MAX_BINS || config->max_leaf_size < 1)
-    return lt__fail(LT_ERROR_INVALID_ARGUMENT, "BVH build: bins must be 2..%d and leaves at least 1", LT_MAX_BINS);
+    return LT_ERROR_INVALID_ARGUMENT;
   memset(out, 0, sizeof *out);
   builder b = {tris, config, malloc(n * sizeof(lt_box)), malloc(3 * n * sizeof(float)), malloc(n * sizeof(int)),
                malloc(n * sizeof(int)), out};
@@ -141,7 +128,7 @@ lt_status lt__bvh_build_sah(const float *tris, size_t n, const lt__sah_config *c
   if (!b.prim_box || !b.centroid || !b.index || !b.scratch || !out->nodes || !out->tris) {
     free(b.prim_box), free(b.centroid), free(b.index), free(b.scratch);
     lt__bvh_free(out);
-    return lt__fail(LT_ERROR_OUT_OF_MEMORY, "BVH build: out of memory for %zu triangles", n);
+    return LT_ERROR_OUT_OF_MEMORY;
   }
 
   /* Per-triangle boxes and centroids. */

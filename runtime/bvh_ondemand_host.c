@@ -6,7 +6,7 @@
 #include "kernels/bvh_ondemand.h"
 #include "kernels/native_kernels.h"
 #include "runtime/error.h"
-#include "runtime/ondemand_internal.h"
+#include "runtime/bvh_ondemand_host.h"
 #include "runtime/stats_internal.h"
 #include "scenes/scene_internal.h"
 
@@ -105,7 +105,7 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
   lt_bvh_node root;
   lt_box empty = lt_box_empty();
   memset(&root, 0, sizeof root);
-  lt_bvh_set_child(&root, 0, &bounds, od->count == 1 ? 0 : LT_LINK_UNBUILT(0), od->count == 1 ? 1 : 0);
+  lt_bvh_set_child(&root, 0, &bounds, od->count == 1 ? 0 : lt_bvh_unbuilt_link(0), od->count == 1 ? 1 : 0);
   lt_bvh_set_child(&root, 1, &empty, -1, 0);
   if (!status) status = lt__buffer_write(ctx, &od->nodes, 0, sizeof root, &root);
   lt_pool_control control = {0};

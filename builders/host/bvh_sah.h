@@ -6,7 +6,7 @@
 #include <stdint.h>
 
 #include "builders/sah_bins.h"
-#include "kernels/shared_types.h"
+#include "device/bvh_node.h"
 #include "lazytrace.h"
 
 /* Parameters with the on-demand paper's defaults (Vinkler et al. 2016, section 3.3). */
@@ -34,9 +34,6 @@ typedef struct lt__bvh {
 /* Builds over n triangles of 9 floats each. */
 lt_status lt__bvh_build_sah(const float *tris, size_t n, const lt__sah_config *config, lt__bvh *out);
 void lt__bvh_free(lt__bvh *bvh);
-/* Shared by the host builders. Writes child `side` of a node: its box and link (count 0: an
- * inner node; else a leaf of count triangles from position link). */
-void lt__bvh_set_child(lt_bvh_node *node, int side, const lt_box *box, int link, int count);
 /* Completes a host build from the root's box and link: a root that is a leaf goes under an
  * inner node with an empty sibling; the triangles are written in leaf order (leaf_order[i] is
  * the triangle at position i), each carrying its number; the SAH cost is made relative to the

@@ -28,7 +28,6 @@ typedef int4 lt_vi4;
 #define lt_v4_make(a, b, c, d) ((float4)((a), (b), (c), (d)))
 #define lt_v4_splat(a) ((float4)(a))
 #define lt_v4_to_int(v) convert_int4_rtz(v)
-#define LT_VECTOR_SLABS 0 /* see compat_native.h */
 #define lt_prefetch(p) prefetch((p), 1)
 /* a < b ? a : b and a > b ? a : b per lane, as the scalar code writes them. */
 LT_DEVICE float4 lt_v4_min(float4 a, float4 b) { return select(b, a, a < b); }

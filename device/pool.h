@@ -15,7 +15,7 @@
 #ifndef LT_POOL_H
 #define LT_POOL_H
 
-#include "kernels/compat.h"
+#include "device/compat.h"
 
 #define LT_POOL_EMPTY ((lt_i32)(-2147483647 - 1))
 #define LT_POOL_WAITING_BASE ((lt_i32)(-1073741824)) /* 0xC0000000: WAITING | node */
