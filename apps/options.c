@@ -83,7 +83,7 @@ int lt_cli_parse(lt_cli *cli, int argc, char **argv) {
   cli->command = argv[1];
   cli->width = cli->height = 1024;
   cli->agents = 100, cli->rays_per_agent = 8, cli->frames = 20, cli->seed = 1;
-  cli->structure = (lt_structure_config){LT_STRUCTURE_BVH, LT_BUILD_SPECULATIVE, 16, 32, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
+  memset(&cli->structure, 0, sizeof cli->structure); /* every field: the structure's default */
   for (int i = 2; i < argc; i++) {
     const char *arg = argv[i];
     if (strcmp(arg, "--any") == 0) {
@@ -97,8 +97,9 @@ int lt_cli_parse(lt_cli *cli, int argc, char **argv) {
       return fprintf(stderr, "lazytrace: unexpected argument '%s' (one SCENE only)\n", arg), 1;
     }
   }
-  /* The LBVH has no on-demand form: asking for it without a build mode means its full build. */
-  if (!cli->build_given && cli->structure.kind == LT_STRUCTURE_LBVH) cli->structure.build = LT_BUILD_FULL;
+  /* Without --build, the structure's own default mode (speculative, or full where there is no
+   * on-demand form), said by name in messages and statistics. */
+  if (!cli->build_given) cli->structure.build = lt_structure_config_default(cli->structure.kind).build;
   return 0;
 }
 

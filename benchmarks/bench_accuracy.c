@@ -266,8 +266,8 @@ static lt_structure *make(setting *st, lt_context *ctx, const lt_scene *scene, d
     if (sah) *sah = bvh.sah_cost;
     if (lt__structure_from_bvh(ctx, scene, &bvh, &s)) return lt__bvh_free(&bvh), NULL;
   } else {
-    lt_structure_config config = {st->how == LBVH ? LT_STRUCTURE_LBVH : LT_STRUCTURE_BVH, st->build, st->leaf,
-                                  st->bins, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
+    lt_structure_config config = lt_structure_config_default(st->how == LBVH ? LT_STRUCTURE_LBVH : LT_STRUCTURE_BVH);
+    config.build = st->build, config.max_leaf_size = st->leaf, config.sah_bins = st->bins;
     lt_stats *stats;
     lt_stats_create(&stats);
     if (lt_structure_create(ctx, scene, &config, stats, &s)) {
@@ -382,8 +382,8 @@ static void leak_table(FILE *csv) {
       size_t leaks[2][2] = {{0, 0}, {0, 0}};
       for (int fast = 0; fast < 2; fast++)
         for (int c = 0; c < CLOSED_SETS; c++) {
-          lt_structure_config config = {variants[v].kind, variants[v].build, 16, 32, 1.0f, 0,
-                                        fast ? LT_INTERSECT_FAST : LT_INTERSECT_WATERTIGHT};
+          lt_structure_config config = lt_structure_config_default(variants[v].kind);
+          config.build = variants[v].build, config.intersect = fast ? LT_INTERSECT_FAST : LT_INTERSECT_WATERTIGHT;
           lt_structure *s;
           lt_hit *hits = malloc(closed[c].count * sizeof *hits);
           if (lt_structure_create(contexts[x], closed[c].scene, &config, NULL, &s) != LT_OK ||

@@ -159,7 +159,8 @@ static int table(int argc, char **argv, int runs, int size, int ao, FILE *csv) {
       csv_row(csv, argv[i], camera, "primary", f, runs);
 
       lt_structure *full;
-      lt_structure_config fc = {LT_STRUCTURE_BVH, LT_BUILD_FULL, 16, 32, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
+      lt_structure_config fc = lt_structure_config_default(LT_STRUCTURE_BVH);
+      fc.build = LT_BUILD_FULL;
       float lo[3], hi[3];
       lt_scene_bounds(scene, lo, hi);
       float diag = sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));

@@ -38,7 +38,8 @@ static int run_lazytrace(const lt_scene *scene, lt_device_kind kind, const lt_ra
   for (int i = 0; i < runs; i++) {
     lt_stats *stats;
     lt_structure *bvh;
-    lt_structure_config full = {LT_STRUCTURE_BVH, LT_BUILD_FULL, 16, 32, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
+    lt_structure_config full = lt_structure_config_default(LT_STRUCTURE_BVH);
+    full.build = LT_BUILD_FULL;
     lt_stats_create(&stats);
     if (lt_structure_create(ctx, scene, &full, stats, &bvh) != LT_OK ||
         lt_structure_trace(bvh, rays, n, LT_QUERY_CLOSEST, hits, stats) != LT_OK) {

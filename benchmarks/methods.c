@@ -7,7 +7,7 @@ lt_structure_config lt_bench_method_config(int method) {
   lt_build_mode build = method == LT_BENCH_REQUESTED     ? LT_BUILD_REQUESTED
                         : method == LT_BENCH_SPECULATIVE ? LT_BUILD_SPECULATIVE
                                                          : LT_BUILD_FULL;
-  lt_structure_config config = {method == LT_BENCH_LBVH ? LT_STRUCTURE_LBVH : LT_STRUCTURE_BVH,
-                                build, 16, 32, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
+  lt_structure_config config = lt_structure_config_default(method == LT_BENCH_LBVH ? LT_STRUCTURE_LBVH : LT_STRUCTURE_BVH);
+  config.build = build;
   return config;
 }

@@ -8,6 +8,7 @@
 #define LT_BVH_TASK_H
 
 #include "builders/sah_bins.h"
+#include "device/heap.h"
 #include "device/pool.h"
 #include "device/bvh_node.h"
 
@@ -38,12 +39,20 @@
 #define W_SPLIT 13  /* axis * 64 + bin, or -1 for the object median */
 #define W_LEFT 14   /* primitives going left */
 
-/* Per-work-group build counters (besides the pool's). */
-#define LT_BVH_STAT_LEAVES 0
-#define LT_BVH_STAT_SORT_OPS 1
-#define LT_BVH_STAT_STEPS 2
-#define LT_BVH_STAT_TESTS 3
-#define LT_BVH_STAT_COUNT 4
+/* Per-work-group counters of the build and its traversal (besides the pool's), one list:
+ * X(ID, STAT) with STAT the statistic the host adds it to (LT_STAT_NONE: kept apart). */
+#define LT_BVH_STAT_LIST(X)                          \
+  X(LT_BVH_STAT_LEAVES, LT_STAT_NONE) /* leaves made, counted into nodes_built */ \
+  X(LT_BVH_STAT_SORT_OPS, LT_STAT_SORT_OPS) /* primitives binned or partitioned */ \
+  X(LT_BVH_STAT_STEPS, LT_STAT_TRAVERSAL_STEPS) /* node visits */ \
+  X(LT_BVH_STAT_TESTS, LT_STAT_INTERSECTIONS) /* ray-triangle tests */
+
+enum {
+#define LT_BVH_STAT_ENUM(id, stat) id,
+  LT_BVH_STAT_LIST(LT_BVH_STAT_ENUM)
+#undef LT_BVH_STAT_ENUM
+      LT_BVH_STAT_COUNT
+};
 
 typedef struct lt_bvh_build {
   lt_pool pool;
@@ -59,9 +68,32 @@ typedef struct lt_bvh_build {
   LT_GLOBAL lt_i32 *slabs;       /* slab_count bin slabs */
   LT_GLOBAL lt_i32 *slab_used;
   LT_GLOBAL lt_u32 *counters;    /* LT_BVH_STAT_COUNT per work-group */
-  lt_i32 slab_count, node_capacity, max_leaf, bins;
+  lt_heap node_heap;             /* hands out nodes */
+  lt_i32 task_kind;              /* the number the running workload gave these tasks */
+  lt_i32 slab_count, max_leaf, bins;
   float traversal_cost, intersection_cost;
 } lt_bvh_build;
+
+/* The build's kernel arguments (device/kernel_args.h); V is its path in the view. */
+#define LT_BVH_BUILD_ARGS(X, V)                        \
+  LT_POOL_ARGS(X, V.pool)                              \
+  X(BUF, float, V.verts, verts)                        \
+  X(BUF, lt_v4, V.prim_boxes, prim_boxes)              \
+  X(BUF, lt_i32, V.side, side)                         \
+  X(BUF, lt_i32, V.index, index)                       \
+  X(BUF, lt_i32, V.scratch, scratch)                   \
+  X(BUF, lt_i32, V.chunk_left, chunk_left)             \
+  X(BUF, lt_bvh_node, V.nodes, nodes)                  \
+  X(BUF, lt_i32, V.slabs, slabs)                       \
+  X(BUF, lt_i32, V.slab_used, slab_used)               \
+  X(BUF, lt_u32, V.counters, counters)                 \
+  LT_HEAP_ARGS(X, V.node_heap, node_heap)              \
+  X(VAL, lt_i32, V.task_kind, task_kind)               \
+  X(VAL, lt_i32, V.slab_count, slab_count)             \
+  X(VAL, lt_i32, V.max_leaf, max_leaf)                 \
+  X(VAL, lt_i32, V.bins, bins)                         \
+  X(VAL, float, V.traversal_cost, traversal_cost)      \
+  X(VAL, float, V.intersection_cost, intersection_cost)
 
 LT_DEVICE void lt_bvh_count(const lt_bvh_build *b, int stat, lt_u32 n) {
   lt_atomic_add_u32(&b->counters[lt_group_id() * LT_BVH_STAT_COUNT + stat], n);
@@ -99,7 +131,7 @@ LT_DEVICE void lt_bvh_spawn(const lt_bvh_build *b, lt_i32 node, int side, lt_i32
     lt_bvh_count(b, LT_BVH_STAT_LEAVES, 1);
     return;
   }
-  lt_i32 slot = lt_pool_insert(&b->pool, node * 2 + side, begin, end, depth, 1); /* SMALL or INIT: one chunk */
+  lt_i32 slot = lt_pool_insert(&b->pool, b->task_kind, node * 2 + side, begin, end, depth, 1); /* SMALL or INIT: one chunk */
   if (slot < 0) {
     lt_bvh_set_child(n, side, bounds, LT_BVH_LINK_EMPTY, 0);
     return;
@@ -115,9 +147,9 @@ LT_DEVICE void lt_bvh_spawn(const lt_bvh_build *b, lt_i32 node, int side, lt_i32
 LT_DEVICE void lt_bvh_finish_split(const lt_bvh_build *b, lt_i32 slot, lt_i32 left_end, const lt_box *left,
                                    const lt_box *right) {
   LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
-  lt_i32 node = lt_atomic_add_i32(&b->pool.control->nodes_next, 1);
-  if (node >= b->node_capacity) {
-    lt_pool_fail(&b->pool, LT_POOL_ERROR_NODES);
+  lt_i32 node = lt_heap_alloc(&b->node_heap, 1);
+  if (node < 0) {
+    lt_pool_fail(&b->pool, LT_POOL_ERROR_HEAP);
     return;
   }
   lt_bvh_spawn(b, node, 0, task->begin, left_end, task->depth + 1, left);
@@ -288,9 +320,9 @@ LT_DEVICE void lt_bvh_subtree(const lt_bvh_build *b, lt_i32 slot) {
     lt_split s;
     lt_i32 mid = cur.end, link, count;
     if (lt_bvh_split_small(b, cur.begin, cur.end, cur.depth, &cur.bounds, &s, &mid)) {
-      link = lt_atomic_add_i32(&b->pool.control->nodes_next, 1), count = 0;
-      if (link >= b->node_capacity) {
-        lt_pool_fail(&b->pool, LT_POOL_ERROR_NODES);
+      link = lt_heap_alloc(&b->node_heap, 1), count = 0;
+      if (link < 0) {
+        lt_pool_fail(&b->pool, LT_POOL_ERROR_HEAP);
         return;
       }
       LT_GLOBAL lt_bvh_node *node = &b->nodes[link];
@@ -479,6 +511,20 @@ LT_DEVICE void lt_bvh_end_phase(const lt_bvh_build *b, lt_i32 slot) {
     lt_bvh_release_slab(b, task);
     lt_bvh_finish_split(b, slot, left_end, &left, &right);
   }
+}
+
+/* The tree's start, made by the same spawn as every other node: node 0 is a super-root whose
+ * left child is the scene's root (a task, or a leaf when there is one triangle) and whose
+ * right child is empty. Run once, by one work-item, before the first launch. */
+LT_DEVICE void lt_bvh_setup(const lt_bvh_build *b, lt_i32 count, const lt_box *bounds) {
+  lt_i32 root = lt_heap_alloc(&b->node_heap, 1);
+  if (root < 0) {
+    lt_pool_fail(&b->pool, LT_POOL_ERROR_HEAP);
+    return;
+  }
+  lt_box empty = lt_box_empty();
+  lt_bvh_set_child(&b->nodes[root], 1, &empty, LT_BVH_LINK_EMPTY, 0);
+  lt_bvh_spawn(b, root, 0, 0, count, 0, bounds);
 }
 
 #endif

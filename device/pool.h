@@ -12,8 +12,8 @@
  *   EMPTY (most neg.)   a free slot
  *
  * Publishing order: task data first, a fence, then the header store that makes it takeable. */
-#ifndef LT_POOL_H
-#define LT_POOL_H
+#ifndef LT_DEVICE_POOL_H
+#define LT_DEVICE_POOL_H
 
 #include "device/compat.h"
 
@@ -34,15 +34,19 @@
 /* Errors a kernel reports through the control block; the host turns them into lt_status. */
 #define LT_POOL_OK 0
 #define LT_POOL_ERROR_FULL 1  /* no empty slot for a new task */
-#define LT_POOL_ERROR_NODES 2 /* the node array is full */
+#define LT_POOL_ERROR_HEAP 2  /* a device heap (nodes, references, cells) is full */
 #define LT_POOL_ERROR_STALL 3 /* a work-group polled past its cap with no progress anywhere */
 #define LT_POOL_ERROR_STACK 4 /* a traversal stack would overflow */
+#define LT_POOL_ERROR_KIND 5  /* a task of a kind the running workload has no hooks for */
 
 /* Task flags. */
 #define LT_TASK_REQUESTED 1
 
-/* One task: 96 bytes of plain ints, so that single fields can be used atomically. */
+/* One task: 96 bytes of plain ints, so that single fields can be used atomically. A task's
+ * kind says which hooks run its chunks and phase ends (kernels/persistent_loop.h); kinds are
+ * numbered by the workload that runs them, so one pool can hold tasks of several kinds. */
 typedef struct lt_task {
+  lt_i32 kind;       /* 4 bytes: which task hooks run it (the workload's numbering) */
   lt_i32 begin, end; /* 8 bytes: the range of elements (primitives) the node holds */
   lt_i32 node;       /* 4 bytes: the node this task builds; its waiting value is WAITING | node */
   lt_i32 phase;      /* 4 bytes: the current phase, from 0 */
@@ -50,7 +54,7 @@ typedef struct lt_task {
   lt_i32 done;       /* 4 bytes: chunks of the current phase finished (atomic) */
   lt_i32 flags;      /* 4 bytes: LT_TASK_REQUESTED once a ray asked for it */
   lt_i32 depth;      /* 4 bytes: depth of the node */
-  lt_i32 work[16];   /* 64 bytes: the workload's per-task data and scratch */
+  lt_i32 work[15];   /* 60 bytes: the task kind's own data and scratch */
 } lt_task;
 
 /* The pool's global counters. */
@@ -62,14 +66,13 @@ typedef struct lt_pool_control {
   lt_i32 empty_put;   /* write counter of the empty-task cache ring */
   lt_i32 priority_put; /* write counter of the prioritisation cache ring */
   lt_i32 high_water;  /* one past the highest slot ever used: scans stop there */
-  lt_i32 nodes_next;  /* node allocator of the workload */
   lt_i32 work_next;   /* next item of own work (ray, query) to hand out */
   lt_i32 order_next;  /* next entry of the order log */
   lt_i32 waiting;     /* tasks published waiting in LT_POOL_LEVELS mode */
   lt_i32 scan_hint;   /* where a scan last found work */
   lt_i32 groups;      /* work-groups of this launch */
   lt_i32 idle_groups; /* work-groups in an idle streak, or gone (lt_pool_decide) */
-  lt_i32 pad[2];
+  lt_i32 pad[3];
 } lt_pool_control;
 
 /* Per-work-group counters, written by work-item 0 of that group only. */
@@ -92,6 +95,11 @@ enum {
       LT_POOL_STAT_COUNT
 };
 
+#ifndef __OPENCL_VERSION__
+_Static_assert(sizeof(lt_task) == 96, "lt_task is 96 bytes on both sides");
+_Static_assert(sizeof(lt_pool_control) == 64, "lt_pool_control is 64 bytes on both sides");
+#endif
+
 /* Where the pool lives; a private struct of global pointers handed to every operation. */
 typedef struct lt_pool {
   LT_GLOBAL lt_i32 *headers;
@@ -104,6 +112,22 @@ typedef struct lt_pool {
   lt_i32 capacity, empty_size, priority_size, order_size;
   lt_i32 mode;                      /* LT_POOL_FULL, _REQUESTED or _SPECULATIVE */
 } lt_pool;
+
+/* The pool's kernel arguments, for a workload's argument list (device/kernel_args.h): V is
+ * the path of the workload's lt_pool inside its view struct. */
+#define LT_POOL_ARGS(X, V)                                   \
+  X(BUF, lt_i32, V.headers, pool_headers)                    \
+  X(BUF, lt_task, V.tasks, pool_tasks)                       \
+  X(BUF, lt_i32, V.empty_cache, pool_empty_cache)            \
+  X(BUF, lt_i32, V.priority_cache, pool_priority_cache)      \
+  X(BUF, lt_pool_control, V.control, pool_control)           \
+  X(BUF, lt_u32, V.stats, pool_stats)                        \
+  X(BUF, lt_i32, V.order, pool_order)                        \
+  X(VAL, lt_i32, V.capacity, pool_capacity)                  \
+  X(VAL, lt_i32, V.empty_size, pool_empty_size)              \
+  X(VAL, lt_i32, V.priority_size, pool_priority_size)        \
+  X(VAL, lt_i32, V.order_size, pool_order_size)              \
+  X(VAL, lt_i32, V.mode, pool_mode)
 
 /* Entries of the empty-task cache an insert looks at before it scans the headers. */
 #define LT_POOL_EMPTY_TRIES 32
@@ -155,8 +179,8 @@ LT_DEVICE lt_i32 lt_pool_claim(const lt_pool *pool) {
  * locked: the caller links it into its structure and then calls lt_pool_publish, so that no
  * work-group can finish the task before the link to it exists. Returns the slot, or -1 (and
  * the error is set) if the pool is full. */
-LT_DEVICE lt_i32 lt_pool_insert(const lt_pool *pool, lt_i32 node, lt_i32 begin, lt_i32 end, lt_i32 depth,
-                                lt_i32 chunks) {
+LT_DEVICE lt_i32 lt_pool_insert(const lt_pool *pool, lt_i32 kind, lt_i32 node, lt_i32 begin, lt_i32 end,
+                                lt_i32 depth, lt_i32 chunks) {
   lt_i32 slot = lt_pool_claim(pool);
   if (slot < 0) {
     lt_pool_fail(pool, LT_POOL_ERROR_FULL);
@@ -165,12 +189,12 @@ LT_DEVICE lt_i32 lt_pool_insert(const lt_pool *pool, lt_i32 node, lt_i32 begin, 
 
   /* Task data, then the outstanding count, then the header that publishes it. */
   LT_GLOBAL lt_task *task = &pool->tasks[slot];
-  task->begin = begin, task->end = end, task->depth = depth, task->phase = 0;
+  task->kind = kind, task->begin = begin, task->end = end, task->depth = depth, task->phase = 0;
   lt_atomic_store_i32(&task->node, node);
   lt_atomic_store_i32(&task->chunks, chunks);
   lt_atomic_store_i32(&task->flags, 0);
   lt_atomic_store_i32(&task->done, 0);
-  for (int k = 0; k < 16; k++) task->work[k] = 0; /* published with the header, like the rest */
+  for (int k = 0; k < 15; k++) task->work[k] = 0; /* published with the header, like the rest */
   lt_atomic_add_i32(&pool->control->outstanding, 1);
   return slot;
 }

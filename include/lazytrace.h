@@ -167,40 +167,62 @@ lt_status lt_stats_write_json(const lt_stats *stats, FILE *out);
 
 /* ---- Acceleration structures ---- */
 
+/* The structures this library implements, one line each: its kind and its entry in the host
+ * registry (runtime/registry.c), which holds its name, parameters with defaults, help, and
+ * functions. Adding a structure adds its own files and one line here. */
+#define LT_STRUCTURE_LIST(X)                                                                   \
+  X(LT_STRUCTURE_BVH, bvh)   /* binned SAH BVH through the task pool: full or on demand */   \
+  X(LT_STRUCTURE_LBVH, lbvh) /* Morton-code LBVH with an SAH top, built on the host: full */
+
 typedef enum {
-  LT_STRUCTURE_BVH = 0, /* binned SAH BVH, built through the task pool (full or on demand) */
-  LT_STRUCTURE_LBVH,    /* Morton-code LBVH with an SAH top (the fast-build baseline), full only */
-  LT_STRUCTURE_COUNT
+#define LT_STRUCTURE_ENUM(kind, entry) kind,
+  LT_STRUCTURE_LIST(LT_STRUCTURE_ENUM)
+#undef LT_STRUCTURE_ENUM
+      LT_STRUCTURE_COUNT
 } lt_structure_kind;
 
-typedef enum { LT_BUILD_FULL = 0, LT_BUILD_REQUESTED, LT_BUILD_SPECULATIVE } lt_build_mode;
-
+/* How a structure is built. LT_BUILD_DEFAULT (the zero value) is the structure's own default:
+ * speculative where it can be built on demand, full otherwise. */
+typedef enum { LT_BUILD_DEFAULT = 0, LT_BUILD_FULL, LT_BUILD_REQUESTED, LT_BUILD_SPECULATIVE } lt_build_mode;
 /* The ray-triangle test. Watertight (Woop, Benthin and Wald 2013) never lets a ray slip
  * between triangles that share an edge or a vertex; fast (Moller-Trumbore 1997) does fewer
  * operations and may. Both give the same hits on every structure, mode and backend. */
 typedef enum { LT_INTERSECT_WATERTIGHT = 0, LT_INTERSECT_FAST } lt_intersect_kind;
 
+/* A structure's parameters. Every zero field means that structure's default, so a zeroed
+ * config (or NULL) is the default BVH; lt_structure_config_default(kind) spells the defaults
+ * out. Each structure reads the fields that apply to it ('lazytrace help' lists them). */
 typedef struct lt_structure_config {
   lt_structure_kind kind; /* default BVH */
-  lt_build_mode build;    /* default SPECULATIVE (the zero value is FULL: say it explicitly) */
-  int max_leaf_size;      /* default 16 (the paper's leaf bound) */
-  int sah_bins;           /* default 32 (the paper's bin count) */
-  float traversal_cost;   /* SAH cost of one node visit relative to one intersection; default 1 */
-  int pool_capacity;      /* task slots to start with; default triangles / 8 (4096 at least).
+  lt_build_mode build;    /* default: the structure's (speculative for the BVH, full otherwise) */
+  int max_leaf_size;      /* BVH, LBVH: default 16 (the paper's leaf bound) */
+  int sah_bins;           /* BVH, LBVH: default 32 (the paper's bin count) */
+  float traversal_cost;   /* BVH, LBVH: SAH cost of a node visit relative to one intersection; default 1 */
+  int pool_capacity;      /* BVH: task slots to start with; default triangles / 8 (4096 at least).
                              A full pool is retried from scratch with twice the slots. */
   lt_intersect_kind intersect; /* default (0) WATERTIGHT */
+  float grid_density;     /* grid: cells along the longest axis per cube root of the triangle
+                             count; default 3 (Thrane and Simonsen) */
 } lt_structure_config;
 
+/* The defaults of a structure, every field filled in. */
+lt_structure_config lt_structure_config_default(lt_structure_kind kind);
 /* Parses "bvh", "full", ...; LT_ERROR_INVALID_ARGUMENT for an unknown name and
  * LT_ERROR_UNSUPPORTED for a known name whose capability does not exist yet. */
 lt_status lt_structure_kind_parse(const char *name, lt_structure_kind *out);
 lt_status lt_build_mode_parse(const char *name, lt_build_mode *out);
 const char *lt_structure_kind_name(lt_structure_kind kind);
 const char *lt_build_mode_name(lt_build_mode mode);
+/* What the registry says of a structure: a one-line summary and its parameters with their
+ * defaults, for help text; the build modes it can be built in, as bits 1 << mode. */
+const char *lt_structure_summary(lt_structure_kind kind);
+const char *lt_structure_parameters(lt_structure_kind kind);
+unsigned lt_structure_modes(lt_structure_kind kind);
+/* Names that are planned but not implemented yet, separated by commas (refused by the parser). */
+const char *lt_structure_planned(void);
 /* "watertight" or "fast". */
 lt_status lt_intersect_kind_parse(const char *name, lt_intersect_kind *out);
 const char *lt_intersect_kind_name(lt_intersect_kind kind);
-
 typedef struct lt_structure lt_structure;
 
 /* Builds (or, on demand, prepares) a structure over the scene's triangles on ctx's device.

@@ -4,6 +4,8 @@
 #include "kernels/bvh_ondemand.h"
 
 void lt__native_bvh_ondemand_kernel(void *arg) {
-  lt_od_shared shared;
-  lt_od_run((const lt_od_trace_args *)arg, &shared);
+  lt__native_launch *launch = arg;
+  lt_od_args view = *(const lt_od_args *)launch->view; /* each work-group its own copy */
+  lt_loop_shared shared;
+  lt_od_kernel(&view, launch->setup, &shared);
 }

@@ -2,27 +2,20 @@
 #ifndef LT_NATIVE_KERNELS_H
 #define LT_NATIVE_KERNELS_H
 
-#include <stdint.h>
+#include "kernels/trace_kernel.h"
 
-#include "device/bvh_node.h"
+/* A launch of a persistent kernel: the workload's view struct, which every work-group copies,
+ * and whether this is the set-up launch (one work-group) that makes the root. */
+typedef struct lt__native_launch {
+  const void *view;
+  int setup;
+} lt__native_launch;
 
-typedef struct lt__native_trace_args {
-  const float *rays; /* 8 floats a ray */
-  int count;
-  int flags;         /* query flags (LT_QUERY_FLAG_*: any hit, triangle and slab tests) */
-  const lt_bvh_node *nodes;
-  const lt_tri *tris;
-  lt_hit_record *hits;
-  lt_u32 next_ray;   /* shared: the next ray to hand out */
-  int error;         /* set to 1 on a stack overflow */
-  uint64_t traversal_steps, intersections;
-} lt__native_trace_args;
-
-/* kernels/native_trace.c: arg is an lt__native_trace_args. */
-void lt__native_trace_kernel(void *arg);
-/* kernels/native_lazy_sort.c: arg is an lt_sort (kernels/lazy_sort.h). */
+/* kernels/native_lazy_sort.c: arg is an lt__native_launch over an lt_sort_args. */
 void lt__native_lazy_sort_kernel(void *arg);
-/* kernels/native_bvh_ondemand.c: arg is an lt_od_trace_args (kernels/bvh_ondemand.h). */
+/* kernels/native_bvh_ondemand.c: arg is an lt__native_launch over an lt_od_args. */
 void lt__native_bvh_ondemand_kernel(void *arg);
+/* kernels/native_bvh_trace.c: arg is an lt__native_trace_launch over an lt_bvh_trace_view. */
+void lt__native_bvh_trace_kernel(void *arg);
 
 #endif

@@ -1,4 +1,4 @@
 /* The one OpenCL program lazytrace builds: every entry point, includes expanded once. */
-#include "kernels/trace.cl"
+#include "kernels/bvh_trace.cl"
 #include "kernels/lazy_sort.cl"
 #include "kernels/bvh_ondemand.cl"

@@ -4,14 +4,16 @@
 #define LT_ONDEMAND_INTERNAL_H
 
 #include "builders/host/bvh_sah.h"
+#include "runtime/heap_host.h"
 #include "runtime/pool_host.h"
 
 typedef struct lt__ondemand {
   lt_context *ctx;
   lt__pool pool;
+  lt__heap node_heap;
   lt__buffer verts, prim_boxes, side, index, scratch, chunk_left, nodes, slabs, slab_used, counters;
   int count;          /* triangles */
-  int node_capacity;
+  lt_box bounds;       /* the scene's */
   int slab_count;
   lt__sah_config sah;
   double leaves;      /* leaves built over all launches */
@@ -28,7 +30,7 @@ void lt__ondemand_release(lt__ondemand *od);
 /* One launch: traces count rays (none is fine: a full build then builds everything) and writes
  * hits; speculate says whether work-groups without rays build unrequested nodes. Adds the
  * launch's pool and traversal counters to stats. */
-lt_status lt__ondemand_launch(lt__ondemand *od, const lt_ray *rays, int count, int any_hit, lt_hit *hits,
+lt_status lt__ondemand_launch(lt__ondemand *od, const lt_ray *rays, int count, int flags, lt_hit *hits,
                               int speculate, lt_stats *stats);
 /* Nodes built so far, counting leaves (the super-root is not counted). */
 lt_status lt__ondemand_nodes_built(lt__ondemand *od, double *nodes);

@@ -2,6 +2,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "kernels/persistent_loop.h"
 #include "runtime/context_internal.h"
 #include "runtime/error.h"
 
@@ -11,6 +12,10 @@ lt_status lt_context_create(const lt_context_config *config, lt_context **out) {
   if (!config) config = &defaults;
   if (config->work_groups < 0 || config->local_size < 0)
     return lt__fail(LT_ERROR_INVALID_ARGUMENT, "work-groups and local size must be positive (0 for the default)");
+  if (config->local_size > LT_MAX_LOCAL_SIZE)
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT,
+                    "--local-size %d exceeds %d, the widest work-group the persistent kernels hold in local memory",
+                    config->local_size, LT_MAX_LOCAL_SIZE);
   lt_context *ctx = calloc(1, sizeof *ctx);
   if (!ctx) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a context");
   ctx->work_groups = config->work_groups;

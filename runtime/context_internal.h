@@ -6,6 +6,14 @@
 
 #include "lazytrace.h"
 
+/* An OpenCL entry point of the program, created on first use. */
+#define LT__MAX_KERNELS 16
+typedef struct lt__kernel {
+  const char *name; /* the entry point; NULL for an unused entry of the table */
+  cl_kernel kernel;
+  int warm;         /* launched once: PoCL has compiled its work-group function */
+} lt__kernel;
+
 struct lt_context {
   lt_device_kind kind; /* OPENCL or NATIVE once created */
   char name[256];
@@ -20,10 +28,7 @@ struct lt_context {
   cl_context cl;
   cl_command_queue queue;
   cl_program program;
-  cl_kernel trace_kernel;
-  cl_kernel sort_kernel;
-  cl_kernel ondemand_kernel;
-  int ondemand_warm; /* the on-demand kernel has run once (PoCL compiled it) */
+  lt__kernel kernels[LT__MAX_KERNELS]; /* created on first use, by entry-point name */
 };
 
 /* OpenCL backend (runtime/opencl.c). */
@@ -32,6 +37,13 @@ void lt__opencl_close(lt_context *ctx);
 /* Builds the program from the embedded sources on first use. */
 lt_status lt__opencl_program(lt_context *ctx);
 lt_status lt__opencl_check(cl_int err, const char *what);
+/* The entry point `name` of the program (built first if need be). Refuses a local size larger
+ * than the kernel supports on this device. */
+lt_status lt__opencl_kernel(lt_context *ctx, const char *name, lt__kernel **out);
+/* Runs a kernel over `groups` work-groups of the context's local size and waits for it. The
+ * first launch of a kernel is counted as compile time (PoCL compiles a work-group function at
+ * its first launch): callers make it one with nothing to do (a set-up launch, or no rays). */
+lt_status lt__opencl_run(lt_context *ctx, lt__kernel *kernel, size_t groups, const char *what);
 int lt__opencl_device_count(void);
 
 /* The embedded kernel source of entry file `path` with its includes expanded, and a hash of

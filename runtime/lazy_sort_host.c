@@ -5,85 +5,81 @@
 #include "kernels/lazy_sort.h"
 #include "kernels/native_kernels.h"
 #include "runtime/error.h"
+#include "runtime/heap_host.h"
+#include "runtime/kernel_args_host.h"
 #include "runtime/pool_host.h"
 #include "runtime/stats_internal.h"
 
 struct lt_lazy_sort {
   lt_context *ctx;
   lt__pool pool;
+  lt__heap node_heap;
   lt__buffer keys, scratch, state, nodes;
   int count;
-  int node_capacity;
 };
 
-static lt_status launch_native(lt_lazy_sort *s, lt__buffer *queries, lt__buffer *answers, int count) {
-  lt_sort args = {lt__pool_native_view(&s->pool), s->keys.host, s->scratch.host, s->state.host, s->nodes.host,
-                  queries->host, answers->host, count, s->node_capacity, s->pool.config.max_idle_polls};
-  return lt__native_run(s->ctx->work_groups, lt__native_lazy_sort_kernel, &args);
-}
+/* The kernel's arguments from its one list (kernels/lazy_sort.h). */
+LT__KERNEL_ARGS(sort_args, LT_SORT_ARGS, lt_sort_args)
 
-/* Arguments after the pool's nine, in the order of lt_lazy_sort in kernels/lazy_sort.cl. */
-static lt_status launch_opencl(lt_lazy_sort *s, lt__buffer *queries, lt__buffer *answers, int count) {
+/* One launch on either backend: the set-up launch (one work-group) or the persistent loop
+ * over `count` queries (exactly as many work-groups as run at once: they wait on each other). */
+static lt_status launch(lt_lazy_sort *s, lt__buffer *queries, lt__buffer *answers, int count, int setup) {
   lt_context *ctx = s->ctx;
-  cl_kernel k = ctx->sort_kernel;
-  lt_status status = lt__pool_set_args(&s->pool, k);
+  sort_args args;
+  LT__POOL_HOST_ARGS(&args, &s->pool);
+  LT__HEAP_HOST_ARGS(&args, node_heap, &s->node_heap);
+  args.keys = &s->keys, args.scratch = &s->scratch, args.state = &s->state, args.nodes = &s->nodes;
+  args.task_kind = 0; /* the kernel numbers its own task kinds */
+  args.queries = queries, args.answers = answers;
+  args.key_count = s->count, args.query_count = count, args.max_idle_polls = s->pool.config.max_idle_polls;
+  int groups = setup ? 1 : ctx->work_groups;
+  if (ctx->kind == LT_DEVICE_NATIVE) {
+    lt_sort_args view;
+    sort_args_view(&args, &view);
+    lt__native_launch native = {&view, setup};
+    return lt__native_run(groups, lt__native_lazy_sort_kernel, &native);
+  }
+  lt__kernel *k;
+  lt_status status = lt__opencl_kernel(ctx, "lt_lazy_sort", &k);
   if (status) return status;
-  cl_int err = clSetKernelArg(k, 9, sizeof(cl_mem), &s->keys.mem);
-  err |= clSetKernelArg(k, 10, sizeof(cl_mem), &s->scratch.mem);
-  err |= clSetKernelArg(k, 11, sizeof(cl_mem), &s->state.mem);
-  err |= clSetKernelArg(k, 12, sizeof(cl_mem), &s->nodes.mem);
-  err |= clSetKernelArg(k, 13, sizeof(cl_mem), &queries->mem);
-  err |= clSetKernelArg(k, 14, sizeof(cl_mem), &answers->mem);
-  err |= clSetKernelArg(k, 15, sizeof(int), &count);
-  err |= clSetKernelArg(k, 16, sizeof(int), &s->node_capacity);
-  err |= clSetKernelArg(k, 17, sizeof(int), &s->pool.config.max_idle_polls);
+  cl_uint next;
+  cl_int err = sort_args_set(k->kernel, &args, &next);
+  err |= clSetKernelArg(k->kernel, next, sizeof setup, &setup);
   if ((status = lt__opencl_check(err, "setting lazy sort kernel arguments"))) return status;
-
-  /* Exactly as many work-groups as run at once: persistent groups wait on each other. */
-  size_t local = (size_t)ctx->local_size, global = local * (size_t)ctx->work_groups;
-  err = clEnqueueNDRangeKernel(ctx->queue, k, 1, NULL, &global, &local, 0, NULL, NULL);
-  if (err == CL_SUCCESS) err = clFinish(ctx->queue);
-  return lt__opencl_check(err, "running the lazy sort kernel");
+  return lt__opencl_run(ctx, k, (size_t)groups, "running the lazy sort kernel");
 }
-
-static lt_status launch(lt_lazy_sort *s, lt__buffer *queries, lt__buffer *answers, int count) {
-  return s->ctx->kind == LT_DEVICE_NATIVE ? launch_native(s, queries, answers, count)
-                                          : launch_opencl(s, queries, answers, count);
-}
-
-/* The warm-up launch (lt__pool_warm_up): no queries. */
-static lt_status warm_up_launch(void *user, lt__buffer *scratch) { return launch(user, scratch, scratch, 0); }
 
 lt_status lt_lazy_sort_create(lt_context *ctx, const uint32_t *keys, size_t count, lt_build_mode mode,
                               const lt_pool_config *config, lt_lazy_sort **out) {
   if (!ctx || !out || (count && !keys)) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_lazy_sort_create: NULL argument");
   if (count > (size_t)LT_POOL_MAX_NODE / 4) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "%zu keys are too many", count);
-  if (ctx->local_size > LT_MAX_LOCAL_SIZE)
-    return lt__fail(LT_ERROR_INVALID_ARGUMENT, "local size %d exceeds %d", ctx->local_size, LT_MAX_LOCAL_SIZE);
   lt_lazy_sort *s = calloc(1, sizeof *s);
   if (!s) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a lazy sort");
   s->ctx = ctx;
   s->count = (int)count;
-  s->node_capacity = 2 * (int)count + 2; /* every split makes two nodes, at most count - 1 splits */
+  int node_capacity = 2 * (int)count + 2; /* every split makes two nodes, at most count - 1 splits */
 
   /* The kernels, the pool, and the arrays of the sort tree. */
-  lt_status status = ctx->kind == LT_DEVICE_OPENCL ? lt__opencl_program(ctx) : LT_OK;
-  if (!status) status = lt__pool_create(ctx, config, (int)mode, &s->pool);
+  if ((unsigned)mode > LT_BUILD_SPECULATIVE) {
+    free(s);
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT, "unknown build mode %d", (int)mode);
+  }
+  if (mode == LT_BUILD_DEFAULT) mode = LT_BUILD_SPECULATIVE;
+  int pool_mode = (int)mode - LT_BUILD_FULL; /* LT_POOL_FULL, _REQUESTED, _SPECULATIVE */
+  lt_status status = lt__pool_create(ctx, config, pool_mode, &s->pool);
+  if (!status) status = lt__heap_create(ctx, &s->node_heap, node_capacity);
   if (!status) status = lt__buffer_create(ctx, &s->keys, count * 4, keys, 0);
   if (!status) status = lt__buffer_create(ctx, &s->scratch, count * 4, NULL, 0);
-  if (!status) status = lt__buffer_create(ctx, &s->state, (size_t)s->node_capacity * 4, NULL, LT_SORT_LEAF_STATE);
-  if (!status) status = lt__buffer_create(ctx, &s->nodes, (size_t)s->node_capacity * 16, NULL, 0);
+  if (!status) status = lt__buffer_create(ctx, &s->state, (size_t)node_capacity * 4, NULL, LT_SORT_LEAF_STATE);
+  if (!status) status = lt__buffer_create(ctx, &s->nodes, (size_t)node_capacity * 16, NULL, 0);
 
-  /* The root: node 0, a task in slot 0 unless there is nothing to sort. */
-  lt_pool_control control = {0};
-  control.nodes_next = 1;
-  if (!status) status = lt__buffer_write(ctx, &s->pool.control, 0, sizeof control, &control);
-  if (!status && count > 0) {
-    int unbuilt = LT_SORT_UNBUILT(0);
-    status = lt__pool_insert_root(&s->pool, 0, 0, 0, (int)count, 1);
-    if (!status) status = lt__buffer_write(ctx, &s->state, 0, 4, &unbuilt);
+  /* The root: node 0, a task in the pool unless there is nothing to sort, made on the device. */
+  lt__buffer none;
+  if (!status) status = lt__buffer_create(ctx, &none, 16, NULL, 0);
+  if (!status) {
+    status = launch(s, &none, &none, 0, 1);
+    lt__buffer_release(&none);
   }
-  if (!status && ctx->kind == LT_DEVICE_OPENCL) status = lt__pool_warm_up(&s->pool, warm_up_launch, s);
   if (status) {
     lt_lazy_sort_destroy(s);
     return status;
@@ -95,6 +91,7 @@ lt_status lt_lazy_sort_create(lt_context *ctx, const uint32_t *keys, size_t coun
 void lt_lazy_sort_destroy(lt_lazy_sort *s) {
   if (!s) return;
   lt__pool_release(&s->pool);
+  lt__heap_release(&s->node_heap);
   lt__buffer_release(&s->keys);
   lt__buffer_release(&s->scratch);
   lt__buffer_release(&s->state);
@@ -117,7 +114,7 @@ lt_status lt_lazy_sort_query(lt_lazy_sort *s, const int32_t *positions, size_t c
   status = lt__buffer_create(s->ctx, &answer_buf, count * 4, NULL, 0);
   if (!status) status = lt__pool_begin_launch(&s->pool);
   double start = lt_now_ms();
-  if (!status) status = launch(s, &query_buf, &answer_buf, (int)count);
+  if (!status) status = launch(s, &query_buf, &answer_buf, (int)count, 0);
   double ms = lt_now_ms() - start;
   lt_status pool_status = status ? status : lt__pool_end_launch(&s->pool, stats);
   if (!pool_status && count) pool_status = lt__buffer_read(s->ctx, &answer_buf, 0, count * 4, answers);
@@ -145,7 +142,7 @@ lt_status lt_lazy_sort_by_levels(lt_lazy_sort *s, lt_stats *stats, int *levels) 
   *levels = 0;
   for (int unlocked = 1; !status && unlocked > 0;) {
     status = lt__pool_begin_launch(&s->pool);
-    if (!status) status = launch(s, &none, &none, 0);
+    if (!status) status = launch(s, &none, &none, 0, 0);
     if (!status) status = lt__pool_end_launch(&s->pool, stats);
     if (!status) status = lt__pool_unlock_waiting(&s->pool, &unlocked);
     ++*levels;
@@ -175,8 +172,9 @@ lt_status lt_lazy_sort_order(lt_lazy_sort *s, int32_t *out, size_t capacity, siz
 
 lt_status lt_lazy_sort_progress(lt_lazy_sort *s, size_t *nodes_built, size_t *tasks_left) {
   lt_pool_control control;
+  int n = 0, exhausted;
   lt_status status = lt__buffer_read(s->ctx, &s->pool.control, 0, sizeof control, &control);
-  int n = control.nodes_next < s->node_capacity ? control.nodes_next : s->node_capacity;
+  if (!status) status = lt__heap_used(s->ctx, &s->node_heap, &n, &exhausted);
   int *state = malloc((size_t)(n > 0 ? n : 1) * sizeof *state);
   if (!status && !state) status = lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory");
   if (!status) status = lt__buffer_read(s->ctx, &s->state, 0, (size_t)n * 4, state);

@@ -78,23 +78,6 @@ static void save_log(lt_context *ctx) {
     clGetProgramBuildInfo(ctx->program, ctx->device, CL_PROGRAM_BUILD_LOG, size, ctx->build_log, NULL);
 }
 
-/* PoCL compiles a kernel's work-group function at its first launch with a given local size:
- * one empty launch here moves that cost into the compile time, where it belongs. */
-static lt_status warm_up(lt_context *ctx) {
-  cl_int err;
-  cl_mem dummy = clCreateBuffer(ctx->cl, CL_MEM_READ_WRITE, 256, NULL, &err);
-  if (err != CL_SUCCESS) return lt__opencl_check(err, "allocating a warm-up buffer");
-  int zero = 0;
-  for (cl_uint i = 0; i < 8; i++)
-    err |= i == 1 || i == 2 ? clSetKernelArg(ctx->trace_kernel, i, sizeof zero, &zero)
-                            : clSetKernelArg(ctx->trace_kernel, i, sizeof dummy, &dummy);
-  size_t local = (size_t)ctx->local_size, global = local * 1024;
-  if (err == CL_SUCCESS) err = clEnqueueNDRangeKernel(ctx->queue, ctx->trace_kernel, 1, NULL, &global, &local, 0, NULL, NULL);
-  if (err == CL_SUCCESS) err = clFinish(ctx->queue);
-  clReleaseMemObject(dummy);
-  return lt__opencl_check(err, "warm-up launch of the trace kernel");
-}
-
 lt_status lt__opencl_program(lt_context *ctx) {
   if (ctx->program) return LT_OK;
   double start = lt_now_ms();
@@ -116,25 +99,46 @@ lt_status lt__opencl_program(lt_context *ctx) {
   if (err != CL_SUCCESS)
     return lt__fail(LT_ERROR_PROGRAM_BUILD, "kernel build failed (OpenCL error %d):\n%s", err,
                     ctx->build_log ? ctx->build_log : "");
-  ctx->trace_kernel = clCreateKernel(ctx->program, "lt_trace_bvh", &err);
-  lt_status status = lt__opencl_check(err, "clCreateKernel(lt_trace_bvh)");
-  if (!status) {
-    ctx->sort_kernel = clCreateKernel(ctx->program, "lt_lazy_sort", &err);
-    status = lt__opencl_check(err, "clCreateKernel(lt_lazy_sort)");
-  }
-  if (!status) {
-    ctx->ondemand_kernel = clCreateKernel(ctx->program, "lt_bvh_ondemand", &err);
-    status = lt__opencl_check(err, "clCreateKernel(lt_bvh_ondemand)");
-  }
-  if (!status) status = warm_up(ctx);
   ctx->compile_ms += lt_now_ms() - start;
-  return status;
+  return LT_OK;
+}
+
+lt_status lt__opencl_kernel(lt_context *ctx, const char *name, lt__kernel **out) {
+  lt_status status = lt__opencl_program(ctx);
+  if (status) return status;
+  int i = 0;
+  for (; i < LT__MAX_KERNELS && ctx->kernels[i].name; i++)
+    if (strcmp(ctx->kernels[i].name, name) == 0) return *out = &ctx->kernels[i], LT_OK;
+  if (i == LT__MAX_KERNELS) return lt__fail(LT_ERROR_CAPACITY, "more than %d kernel entry points", LT__MAX_KERNELS);
+
+  /* A new entry point: created once, and checked against the local size asked for. */
+  cl_int err;
+  cl_kernel kernel = clCreateKernel(ctx->program, name, &err);
+  if (err != CL_SUCCESS) return lt__opencl_check(err, name);
+  size_t max_local = 0;
+  clGetKernelWorkGroupInfo(kernel, ctx->device, CL_KERNEL_WORK_GROUP_SIZE, sizeof max_local, &max_local, NULL);
+  if (max_local > 0 && (size_t)ctx->local_size > max_local) {
+    clReleaseKernel(kernel);
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT, "--local-size %d exceeds the %zu work-items kernel %s supports on %s",
+                    ctx->local_size, max_local, name, ctx->name);
+  }
+  ctx->kernels[i] = (lt__kernel){name, kernel, 0};
+  *out = &ctx->kernels[i];
+  return LT_OK;
+}
+
+lt_status lt__opencl_run(lt_context *ctx, lt__kernel *kernel, size_t groups, const char *what) {
+  double start = lt_now_ms();
+  size_t local = (size_t)ctx->local_size, global = local * groups;
+  cl_int err = clEnqueueNDRangeKernel(ctx->queue, kernel->kernel, 1, NULL, &global, &local, 0, NULL, NULL);
+  if (err == CL_SUCCESS) err = clFinish(ctx->queue);
+  if (!kernel->warm) ctx->compile_ms += lt_now_ms() - start;
+  kernel->warm = 1;
+  return lt__opencl_check(err, what);
 }
 
 void lt__opencl_close(lt_context *ctx) {
-  if (ctx->trace_kernel) clReleaseKernel(ctx->trace_kernel);
-  if (ctx->sort_kernel) clReleaseKernel(ctx->sort_kernel);
-  if (ctx->ondemand_kernel) clReleaseKernel(ctx->ondemand_kernel);
+  for (int i = 0; i < LT__MAX_KERNELS && ctx->kernels[i].name; i++) clReleaseKernel(ctx->kernels[i].kernel);
   if (ctx->program) clReleaseProgram(ctx->program);
   if (ctx->queue) clReleaseCommandQueue(ctx->queue);
   if (ctx->cl) clReleaseContext(ctx->cl);

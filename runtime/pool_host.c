@@ -1,4 +1,4 @@
-/* The host half of the task pool (see pool_internal.h and device/pool.h). */
+/* The host half of the task pool (see pool_host.h and device/pool.h). */
 #include "runtime/pool_host.h"
 
 #include <stdlib.h>
@@ -49,20 +49,6 @@ void lt__pool_release(lt__pool *pool) {
   lt__buffer_release(&pool->control);
   lt__buffer_release(&pool->stats);
   lt__buffer_release(&pool->order);
-}
-
-lt_status lt__pool_insert_root(lt__pool *pool, int slot, int node, int begin, int end, int chunks) {
-  lt_task task = {begin, end, node, 0, chunks, 0, 0, 0, {0}};
-  lt_pool_control control;
-  lt_status status = lt__buffer_read(pool->ctx, &pool->control, 0, sizeof control, &control);
-  if (status) return status;
-  control.outstanding++;
-  if (control.high_water < slot + 1) control.high_water = slot + 1;
-  int header = pool->mode == LT_POOL_REQUESTED ? LT_POOL_WAITING(node) : chunks;
-  status = lt__buffer_write(pool->ctx, &pool->tasks, (size_t)slot * sizeof task, sizeof task, &task);
-  if (!status) status = lt__buffer_write(pool->ctx, &pool->control, 0, sizeof control, &control);
-  if (!status) status = lt__buffer_write(pool->ctx, &pool->headers, (size_t)slot * 4, 4, &header);
-  return status;
 }
 
 lt_status lt__pool_begin_launch(lt__pool *pool) {
@@ -125,7 +111,8 @@ lt_status lt__pool_end_launch(lt__pool *pool, lt_stats *stats) {
   int empty, waiting, locked, unlocked;
   lt__pool_census(pool, &empty, &waiting, &locked, &unlocked);
   const char *what = control.error == LT_POOL_ERROR_FULL    ? "the task pool is full"
-                     : control.error == LT_POOL_ERROR_NODES ? "the node array is full"
+                     : control.error == LT_POOL_ERROR_HEAP  ? "a device heap (nodes, references) is full"
+                     : control.error == LT_POOL_ERROR_KIND  ? "a task of a kind the workload does not run"
                      : control.error == LT_POOL_ERROR_STACK ? "a traversal went deeper than its stack"
                                                             : "a work-group polled past its cap with no progress";
   return lt__fail(control.error == LT_POOL_ERROR_STALL ? LT_ERROR_SCHEDULER : LT_ERROR_CAPACITY,
@@ -156,45 +143,4 @@ lt_status lt__pool_unlock_waiting(lt__pool *pool, int *count) {
   if (!status) status = lt__buffer_write(pool->ctx, &pool->control, 0, sizeof control, &control);
   free(headers), free(tasks);
   return status;
-}
-
-lt_status lt__pool_warm_up(lt__pool *pool, lt__pool_launch_fn launch, void *user) {
-  lt_pool_control saved, stop;
-  lt__buffer scratch;
-  lt_status status = lt__buffer_read(pool->ctx, &pool->control, 0, sizeof saved, &saved);
-  if (status) return status;
-  stop = saved;
-  stop.error = LT_POOL_ERROR_STALL;
-  double start = lt_now_ms();
-  status = lt__buffer_create(pool->ctx, &scratch, 16, NULL, 0);
-  if (status) return status;
-  status = lt__buffer_write(pool->ctx, &pool->control, 0, sizeof stop, &stop);
-  if (!status) status = launch(user, &scratch);
-  lt__buffer_release(&scratch);
-  if (!status) status = lt__buffer_write(pool->ctx, &pool->control, 0, sizeof saved, &saved);
-  pool->ctx->compile_ms += lt_now_ms() - start;
-  return status;
-}
-
-lt_pool lt__pool_native_view(lt__pool *pool) {
-  lt_pool view = {pool->headers.host, pool->tasks.host, pool->empty_cache.host, pool->priority_cache.host,
-                  pool->control.host, pool->stats.host, pool->order.host, pool->config.capacity,
-                  pool->config.empty_cache_size, pool->config.priority_cache_size, pool->config.order_log_size,
-                  pool->mode};
-  return view;
-}
-
-lt_status lt__pool_set_args(lt__pool *pool, cl_kernel kernel) {
-  cl_int4 sizes = {{pool->config.capacity, pool->config.empty_cache_size, pool->config.priority_cache_size,
-                    pool->config.order_log_size}};
-  cl_int err = clSetKernelArg(kernel, 0, sizeof(cl_mem), &pool->headers.mem);
-  err |= clSetKernelArg(kernel, 1, sizeof(cl_mem), &pool->tasks.mem);
-  err |= clSetKernelArg(kernel, 2, sizeof(cl_mem), &pool->empty_cache.mem);
-  err |= clSetKernelArg(kernel, 3, sizeof(cl_mem), &pool->priority_cache.mem);
-  err |= clSetKernelArg(kernel, 4, sizeof(cl_mem), &pool->control.mem);
-  err |= clSetKernelArg(kernel, 5, sizeof(cl_mem), &pool->stats.mem);
-  err |= clSetKernelArg(kernel, 6, sizeof(cl_mem), &pool->order.mem);
-  err |= clSetKernelArg(kernel, 7, sizeof sizes, &sizes);
-  err |= clSetKernelArg(kernel, 8, sizeof(int), &pool->mode);
-  return lt__opencl_check(err, "setting task pool kernel arguments");
 }

@@ -1,6 +1,6 @@
 /* The host half of the task pool: its buffers, initial state, launches and counters. */
-#ifndef LT_POOL_INTERNAL_H
-#define LT_POOL_INTERNAL_H
+#ifndef LT_POOL_HOST_H
+#define LT_POOL_HOST_H
 
 #include "device/pool.h"
 #include "runtime/buffer.h"
@@ -16,8 +16,6 @@ lt_pool_config lt__pool_config_defaults(const lt_pool_config *config);
 /* Allocates an empty pool: every header EMPTY, caches without entries, counters zero. */
 lt_status lt__pool_create(lt_context *ctx, const lt_pool_config *config, int mode, lt__pool *pool);
 void lt__pool_release(lt__pool *pool);
-/* Puts a task in `slot` from the host (the root), published as the mode says. */
-lt_status lt__pool_insert_root(lt__pool *pool, int slot, int node, int begin, int end, int chunks);
 /* Resets what one launch consumes: termination counter, own-work cursor, counters. */
 lt_status lt__pool_begin_launch(lt__pool *pool);
 /* Reads the control block and per-group counters after a launch, adds the counters to stats
@@ -25,16 +23,14 @@ lt_status lt__pool_begin_launch(lt__pool *pool);
 lt_status lt__pool_end_launch(lt__pool *pool, lt_stats *stats);
 /* Level baseline: unlocks every waiting task from the host; returns how many via *count. */
 lt_status lt__pool_unlock_waiting(lt__pool *pool, int *count);
-/* PoCL compiles a kernel's work-group function at its first launch: warm-up runs `launch`
- * once with the control block saying "error" (every work-group quits at once) and a small
- * scratch buffer for its ray or query arguments, then restores the control block. The time
- * counts as compile time. */
-typedef lt_status (*lt__pool_launch_fn)(void *user, lt__buffer *scratch);
-lt_status lt__pool_warm_up(lt__pool *pool, lt__pool_launch_fn launch, void *user);
-/* The device view for the native backend (host pointers). */
-lt_pool lt__pool_native_view(lt__pool *pool);
-/* Sets the pool's kernel arguments 0..8 (the layout of lt_lazy_sort in kernels/lazy_sort.cl). */
-lt_status lt__pool_set_args(lt__pool *pool, cl_kernel kernel);
+/* Fills the pool's entries of a kernel's host arguments (LT_POOL_ARGS, runtime/kernel_args_host.h). */
+#define LT__POOL_HOST_ARGS(args, p)                                                                   \
+  ((args)->pool_headers = &(p)->headers, (args)->pool_tasks = &(p)->tasks,                            \
+   (args)->pool_empty_cache = &(p)->empty_cache, (args)->pool_priority_cache = &(p)->priority_cache, \
+   (args)->pool_control = &(p)->control, (args)->pool_stats = &(p)->stats, (args)->pool_order = &(p)->order, \
+   (args)->pool_capacity = (p)->config.capacity, (args)->pool_empty_size = (p)->config.empty_cache_size, \
+   (args)->pool_priority_size = (p)->config.priority_cache_size,                                      \
+   (args)->pool_order_size = (p)->config.order_log_size, (args)->pool_mode = (p)->mode)
 /* Counts the headers by state, for messages and tests. */
 lt_status lt__pool_census(lt__pool *pool, int *empty, int *waiting, int *locked, int *unlocked);
 

@@ -1,5 +1,7 @@
 /* Kernel source assembly: the embedded files with their quoted includes expanded, each file
- * once, as Cycles did, because OpenCL drivers cache binaries without looking at includes. */
+ * once, as Cycles did, because OpenCL drivers cache binaries without looking at includes. A
+ * body instantiated by include (a file named *_body.h, with no include guard) is expanded at
+ * every include, as the preprocessor would. */
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -31,9 +33,15 @@ static int find_file(const char *path) {
   return -1;
 }
 
-/* Appends file `index`, replacing each `#include "x"` line by x's text the first time. */
+static int is_body(const char *path) {
+  size_t n = strlen(path);
+  return n >= 7 && strcmp(path + n - 7, "_body.h") == 0;
+}
+
+/* Appends file `index`, replacing each `#include "x"` line by x's text the first time (every
+ * time for a body). */
 static int expand(text *t, int index, unsigned char *seen) {
-  if (seen[index]) return 0;
+  if (seen[index] && !is_body(lt__embedded_files[index].path)) return 0;
   seen[index] = 1;
   const char *s = lt__embedded_files[index].contents;
   while (*s) {

@@ -61,6 +61,9 @@ typedef enum {
       LT_STAT_COUNT
 } lt_stat_id;
 
+/* A device counter that feeds no statistic of its own (LT_BVH_STAT_LIST, ...). */
+#define LT_STAT_NONE (-1)
+
 /* One traced batch of a render: which effect, how many rays, build plus trace time, and the
  * nodes built once it was done (null where unknown). Written as the "batches" array. */
 #define LT_STATS_MAX_BATCHES 256

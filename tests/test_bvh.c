@@ -51,7 +51,8 @@ static lt_hit *trace_with(const lt_scene *scene, const launch *l, const lt_ray *
   lt_context_config config = {l->device, 0, l->work_groups, l->local_size, 1};
   assert_int_equal(lt_context_create(&config, &ctx), LT_OK);
   lt_structure *bvh;
-  lt_structure_config full = {LT_STRUCTURE_BVH, LT_BUILD_FULL, 16, 32, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
+  lt_structure_config full = lt_structure_config_default(LT_STRUCTURE_BVH);
+  full.build = LT_BUILD_FULL;
   assert_int_equal(lt_structure_create(ctx, scene, &full, NULL, &bvh), LT_OK);
   lt_hit *hits = malloc(n * sizeof *hits);
   assert_non_null(hits);
@@ -140,7 +141,8 @@ static void bvh_statistics_are_filled(void **state) {
   lt_stats *stats;
   assert_int_equal(lt_stats_create(&stats), LT_OK);
   lt_structure *bvh;
-  lt_structure_config full = {LT_STRUCTURE_BVH, LT_BUILD_FULL, 16, 32, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
+  lt_structure_config full = lt_structure_config_default(LT_STRUCTURE_BVH);
+  full.build = LT_BUILD_FULL;
   assert_int_equal(lt_structure_create(ctx, scene, &full, stats, &bvh), LT_OK);
   lt_ray rays[64];
   lt_hit hits[64];

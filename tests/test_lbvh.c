@@ -134,14 +134,16 @@ static int check_tree(const lt__bvh *bvh, const float *scene_tris, size_t n, int
 
 /* ---- Tracing the arrays ---- */
 
+/* Through the one traversal body on the host, as the native backend runs it. */
 static void trace(const lt__bvh *bvh, const lt_ray *rays, size_t n, int any_hit, lt_hit *hits) {
+  lt_bvh_view tree = {bvh->nodes, bvh->tris, NULL, NULL, NULL};
   for (size_t i = 0; i < n; i++) {
-    const lt_ray *ray = &rays[i];
-    lt_ray_setup r = lt_ray_prepare(ray->org[0], ray->org[1], ray->org[2], ray->tmin, ray->dir[0], ray->dir[1],
-                                    ray->dir[2], ray->tmax);
-    lt_hit_record hit;
+    lt_bvh_ray q;
     lt_trace_counters counters = {0, 0};
-    assert_int_equal(lt_bvh_traverse(&r, bvh->nodes, bvh->tris, any_hit, &hit, &counters), 0);
+    lt_bvh_ray_start(&q, (const float *)&rays[i]);
+    assert_int_equal(lt_bvh_advance_tris(&tree, &q, any_hit ? LT_QUERY_FLAG_ANY : 0, &counters), 1);
+    assert_int_equal(q.overflow, 0);
+    lt_hit_record hit = lt_bvh_ray_answer(&q);
     hits[i] = (lt_hit){hit.t, hit.u, hit.v, hit.prim};
   }
 }

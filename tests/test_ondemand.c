@@ -37,7 +37,8 @@ static int opencl_available(void) {
 }
 
 static lt_structure_config mode_config(lt_build_mode mode) {
-  lt_structure_config c = {LT_STRUCTURE_BVH, mode, 16, 32, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
+  lt_structure_config c = lt_structure_config_default(LT_STRUCTURE_BVH);
+  c.build = mode;
   return c;
 }
 
@@ -80,7 +81,7 @@ static void ondemand_matches_reference_in_every_mode(void **state) {
     lt_hit *ref = malloc(RAY_COUNT * sizeof *ref);
     make_rays(scene, 7 + s, rays);
     assert_int_equal(lt_reference_trace(scene, rays, RAY_COUNT, LT_QUERY_CLOSEST, ref), LT_OK);
-    for (int mode = 0; mode < 3; mode++)
+    for (int mode = LT_BUILD_FULL; mode <= LT_BUILD_SPECULATIVE; mode++)
       for (size_t l = 0; l < sizeof launches / sizeof launches[0]; l++) {
         if (launches[l].device == LT_DEVICE_OPENCL && !have_opencl) continue;
         char what[128];
@@ -246,7 +247,7 @@ static void ondemand_full_pool_is_retried_larger(void **state) {
   lt_hit hits[500], ref[500];
   lt_test_random_rays(scene, 3, 500, rays);
   assert_int_equal(lt_reference_trace(scene, rays, 500, LT_QUERY_CLOSEST, ref), LT_OK);
-  for (int mode = 0; mode < 3; mode++) {
+  for (int mode = LT_BUILD_FULL; mode <= LT_BUILD_SPECULATIVE; mode++) {
     lt_context *ctx;
     lt_context_config config = {LT_DEVICE_NATIVE, 2, 1, 0, 1};
     assert_int_equal(lt_context_create(&config, &ctx), LT_OK);
@@ -271,8 +272,8 @@ static void ondemand_builds_only_what_rays_reach(void **state) {
   size_t n = 64 * 64;
   lt_ray *rays = malloc(n * sizeof *rays);
   lt_test_camera_rays(scene, "outer", 64, 64, rays);
-  double nodes[3];
-  for (int mode = 0; mode < 3; mode++) {
+  double nodes[LT_BUILD_SPECULATIVE + 1];
+  for (int mode = LT_BUILD_FULL; mode <= LT_BUILD_SPECULATIVE; mode++) {
     lt_stats *stats;
     lt_stats_create(&stats);
     launch native = {LT_DEVICE_NATIVE, 2, 1};
@@ -280,10 +281,10 @@ static void ondemand_builds_only_what_rays_reach(void **state) {
     nodes[mode] = lt_stats_get(stats, "nodes_built");
     lt_stats_destroy(stats);
   }
-  fprintf(stderr, "house-row outer, 64x64: nodes built full %.0f, requested %.0f, speculative %.0f\n", nodes[0],
-          nodes[1], nodes[2]);
-  assert_true(nodes[1] < 0.1 * nodes[0]);
-  assert_true(nodes[2] >= nodes[1] && nodes[2] <= nodes[0]);
+  fprintf(stderr, "house-row outer, 64x64: nodes built full %.0f, requested %.0f, speculative %.0f\n",
+          nodes[LT_BUILD_FULL], nodes[LT_BUILD_REQUESTED], nodes[LT_BUILD_SPECULATIVE]);
+  assert_true(nodes[LT_BUILD_REQUESTED] < 0.1 * nodes[LT_BUILD_FULL]);
+  assert_true(nodes[LT_BUILD_SPECULATIVE] >= nodes[LT_BUILD_REQUESTED] && nodes[LT_BUILD_SPECULATIVE] <= nodes[LT_BUILD_FULL]);
   free(rays);
   lt_scene_destroy(scene);
 }

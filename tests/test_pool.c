@@ -32,7 +32,7 @@ static host_pool *host_pool_new(int capacity, int mode) {
 }
 
 static lt_i32 insert_published(host_pool *h, lt_i32 node, lt_i32 chunks) {
-  lt_i32 slot = lt_pool_insert(&h->pool, node, 0, 100, 0, chunks);
+  lt_i32 slot = lt_pool_insert(&h->pool, 0, node, 0, 100, 0, chunks);
   assert_true(slot >= 0);
   assert_int_equal(h->headers[slot], 0); /* locked while it is being linked */
   lt_pool_publish(&h->pool, slot);
@@ -174,7 +174,7 @@ static void pool_full_is_reported(void **state) {
   host_pool *h = host_pool_new(2, LT_POOL_FULL);
   insert_published(h, 1, 1);
   insert_published(h, 2, 1);
-  assert_int_equal(lt_pool_insert(&h->pool, 3, 0, 1, 0, 1), -1);
+  assert_int_equal(lt_pool_insert(&h->pool, 0, 3, 0, 1, 0, 1), -1);
   assert_int_equal(h->control.error, LT_POOL_ERROR_FULL);
   assert_true(lt_pool_may_quit(&h->pool));
   free(h);
@@ -426,7 +426,7 @@ static void pool_stress(void **state) {
   int local_sizes[] = {1, 2, 7, 32};
   uint64_t seed = 1000;
   for (int r = 0; r < rounds; r++)
-    for (int mode = 0; mode < 3; mode++) {
+    for (int mode = LT_BUILD_FULL; mode <= LT_BUILD_SPECULATIVE; mode++) {
       for (int groups = 1; groups <= 3; groups++) {
         backend native = {LT_DEVICE_NATIVE, groups, 1};
         run_sort(&native, (lt_build_mode)mode, seed++, 20000 + 7919 * r, 300);

@@ -47,7 +47,8 @@ static float *render(const lt_scene *scene, int mode, const lt_effects *effects,
   float *image = malloc(3 * sizeof(float) * width * height);
   lt_structure *structure = NULL;
   if (mode >= 0) {
-    lt_structure_config sc = {LT_STRUCTURE_BVH, (lt_build_mode)mode, 16, 32, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
+    lt_structure_config sc = lt_structure_config_default(LT_STRUCTURE_BVH);
+    sc.build = (lt_build_mode)mode;
     if (lt_structure_create(ctx, scene, &sc, stats, &structure)) fail_msg("structure: %s", lt_last_error());
   }
   if (lt_render(structure, scene, &config, image, stats)) fail_msg("render: %s", lt_last_error());

@@ -89,7 +89,8 @@ static void check_everywhere(const lt_scene *scene, const lt_ray *rays, size_t n
   int have_ref = c->with_reference;
   for (int x = 0; x < context_count; x++)
     for (size_t v = 0; v < VARIANTS; v++) {
-      lt_structure_config config = {variants[v].kind, variants[v].build, 16, 32, 1.0f, 0, c->intersect};
+      lt_structure_config config = lt_structure_config_default(variants[v].kind);
+      config.build = variants[v].build, config.intersect = c->intersect;
       lt_structure *s;
       char what[256];
       snprintf(what, sizeof what, "%s: %s %s on %s", c->what, lt_structure_kind_name(variants[v].kind),
@@ -284,7 +285,8 @@ static void robustness_rays_starting_on_surfaces_and_node_boundaries(void **stat
   }
 
   /* On node boundaries: corners and face centres of the full tree's boxes. */
-  lt_structure_config full = {LT_STRUCTURE_BVH, LT_BUILD_FULL, 4, 32, 1.0f, 0, LT_INTERSECT_WATERTIGHT};
+  lt_structure_config full = lt_structure_config_default(LT_STRUCTURE_BVH);
+  full.build = LT_BUILD_FULL, full.max_leaf_size = 4;
   lt_structure *s;
   assert_int_equal(lt_structure_create(contexts[0], scene, &full, NULL, &s), LT_OK);
   lt_bvh_node *nodes;

@@ -1,0 +1,95 @@
+/* The host registry of structures (see registry.h): the table made from LT_STRUCTURE_LIST, the
+ * names planned for later, and the public functions that read the table. */
+#include "runtime/registry.h"
+
+#include <string.h>
+
+#include "runtime/error.h"
+
+static const lt__structure_class *const classes[LT_STRUCTURE_COUNT] = {
+#define LT__STRUCTURE_ENTRY(kind, entry) [kind] = &lt__structure_##entry,
+    LT_STRUCTURE_LIST(LT__STRUCTURE_ENTRY)
+#undef LT__STRUCTURE_ENTRY
+};
+
+/* Names a user may give that later issues implement; each is refused with a clear message. */
+static const char planned[] = "kdtree, irgrid, grid, qbvh, escape-bvh";
+
+static const char *const build_names[] = {"default", "full", "requested", "speculative"};
+
+const lt__structure_class *lt__structure_class_of(lt_structure_kind kind) {
+  return (unsigned)kind < LT_STRUCTURE_COUNT ? classes[kind] : NULL;
+}
+
+const char *lt_structure_planned(void) { return planned; }
+
+/* Whether `name` is one of the comma-separated names of `list`. */
+static int listed(const char *list, const char *name) {
+  size_t n = strlen(name);
+  for (const char *p = list; *p;) {
+    const char *end = strchr(p, ',');
+    size_t len = end ? (size_t)(end - p) : strlen(p);
+    if (len == n && strncmp(p, name, n) == 0) return 1;
+    if (!end) break;
+    for (p = end + 1; *p == ' ';) p++;
+  }
+  return 0;
+}
+
+/* The implemented names, separated by commas, for messages. */
+static const char *known_names(void) {
+  static char names[256];
+  names[0] = '\0';
+  for (int k = 0; k < LT_STRUCTURE_COUNT; k++) {
+    if (k) strncat(names, ", ", sizeof names - strlen(names) - 1);
+    strncat(names, classes[k]->name, sizeof names - strlen(names) - 1);
+  }
+  return names;
+}
+
+lt_status lt_structure_kind_parse(const char *name, lt_structure_kind *out) {
+  if (!name || !out) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_structure_kind_parse: NULL argument");
+  for (int k = 0; k < LT_STRUCTURE_COUNT; k++)
+    if (strcmp(name, classes[k]->name) == 0) return *out = (lt_structure_kind)k, LT_OK;
+  if (listed(planned, name))
+    return lt__fail(LT_ERROR_UNSUPPORTED, "--structure %s is not implemented yet (available: %s)", name, known_names());
+  return lt__fail(LT_ERROR_INVALID_ARGUMENT, "unknown structure '%s' (known: %s; planned: %s)", name, known_names(),
+                  planned);
+}
+
+const char *lt_structure_kind_name(lt_structure_kind kind) {
+  const lt__structure_class *c = lt__structure_class_of(kind);
+  return c ? c->name : "unknown";
+}
+
+const char *lt_structure_summary(lt_structure_kind kind) {
+  const lt__structure_class *c = lt__structure_class_of(kind);
+  return c ? c->summary : "";
+}
+
+const char *lt_structure_parameters(lt_structure_kind kind) {
+  const lt__structure_class *c = lt__structure_class_of(kind);
+  return c ? c->parameters : "";
+}
+
+unsigned lt_structure_modes(lt_structure_kind kind) {
+  const lt__structure_class *c = lt__structure_class_of(kind);
+  return c ? c->modes : 0;
+}
+
+lt_structure_config lt_structure_config_default(lt_structure_kind kind) {
+  const lt__structure_class *c = lt__structure_class_of(kind);
+  lt_structure_config none;
+  memset(&none, 0, sizeof none);
+  return c ? c->defaults : none;
+}
+
+const char *lt_build_mode_name(lt_build_mode mode) {
+  return (unsigned)mode <= LT_BUILD_SPECULATIVE ? build_names[mode] : "unknown";
+}
+
+lt_status lt_build_mode_parse(const char *name, lt_build_mode *out) {
+  for (int i = LT_BUILD_FULL; i <= LT_BUILD_SPECULATIVE; i++)
+    if (strcmp(name, build_names[i]) == 0) return *out = (lt_build_mode)i, LT_OK;
+  return lt__fail(LT_ERROR_INVALID_ARGUMENT, "unknown build mode '%s' (known: full, requested, speculative)", name);
+}

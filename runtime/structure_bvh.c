@@ -1,0 +1,138 @@
+/* The registry entry of the SAH BVH built through the task pool (runtime/bvh_ondemand_host.c,
+ * kernels/bvh_ondemand.h): fully, or on demand while the rays are traced. */
+#include <stdlib.h>
+
+#include "runtime/bvh_ondemand_host.h"
+#include "runtime/context_internal.h"
+#include "runtime/error.h"
+#include "runtime/registry.h"
+#include "runtime/stats_internal.h"
+
+typedef struct bvh_state {
+  lt__sah_config sah;
+  lt__ondemand od;
+  int live;          /* od holds a tree */
+  int pool_capacity; /* doubled when the pool fills up */
+} bvh_state;
+
+/* The largest pool a retry may ask for. */
+#define MAX_POOL (1 << 26)
+
+/* Pool capacity to start from; a full pool doubles it and starts again (never a silent drop). */
+static int initial_pool_capacity(size_t triangles) {
+  size_t c = triangles / 8;
+  return c < 4096 ? 4096 : c > (1u << 22) ? (1 << 22) : (int)c;
+}
+
+static lt_build_mode mode_of(const lt_structure *s) { return s->config.build; }
+
+/* (Re)creates the tree, and in a full build builds all of it. */
+static lt_status start(lt_structure *s, lt_stats *stats) {
+  bvh_state *b = s->state;
+  if (b->live) lt__ondemand_release(&b->od);
+  b->live = 0;
+
+  /* Setting up (packing triangles and their boxes, allocating) is build time in every mode;
+   * the kernel warm-up inside it is compile time and is taken out. */
+  double begin = lt_now_ms(), compile = s->ctx->compile_ms;
+  int pool_mode = (int)mode_of(s) - LT_BUILD_FULL; /* LT_POOL_FULL, _REQUESTED, _SPECULATIVE */
+  lt_status status = lt__ondemand_create(s->ctx, s->scene, &b->sah, pool_mode, b->pool_capacity,
+                                         (int)lt_scene_triangle_count(s->scene) + 2, &b->od);
+  if (!status) b->live = 1;
+  if (!status && mode_of(s) == LT_BUILD_FULL) status = lt__ondemand_launch(&b->od, NULL, 0, 0, NULL, 0, stats);
+  lt__stats_add(stats, LT_STAT_BUILD_MS, lt_now_ms() - begin - (s->ctx->compile_ms - compile));
+  return status;
+}
+
+/* Starts again from scratch with a pool twice as large, while the pool fills up. */
+static lt_status with_retry(lt_structure *s, lt_stats *stats, lt_status status) {
+  bvh_state *b = s->state;
+  while (status == LT_ERROR_CAPACITY && b->pool_capacity < MAX_POOL) {
+    if (!s->ctx->quiet) fprintf(stderr, "lazytrace: %s; retrying with a pool of %d tasks\n", lt_last_error(), 2 * b->pool_capacity);
+    b->pool_capacity *= 2;
+    status = start(s, stats);
+  }
+  return status;
+}
+
+static lt_status create(lt_structure *s, lt_stats *stats) {
+  bvh_state *b = s->state;
+  if (s->config.sah_bins > LT_MAX_BINS || s->config.sah_bins < 2)
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT, "--bins %d: the BVH takes 2 to %d SAH bins", s->config.sah_bins, LT_MAX_BINS);
+  b->sah = lt__structure_sah(&s->config);
+  b->pool_capacity = s->config.pool_capacity > 0 ? s->config.pool_capacity
+                                                 : initial_pool_capacity(lt_scene_triangle_count(s->scene));
+  return with_retry(s, stats, start(s, stats));
+}
+
+/* One launch builds what the rays need while tracing them (time to image); with statistics
+ * asked for, a second launch traces the same rays on the tree as built, which is the trace
+ * time, and build time is the difference (the paper's convention). */
+static lt_status trace(lt_structure *s, const lt_ray *rays, int count, int flags, lt_hit *hits, lt_stats *stats) {
+  bvh_state *b = s->state;
+  int speculate = mode_of(s) == LT_BUILD_SPECULATIVE;
+  double begin = lt_now_ms();
+  lt_status status = lt__ondemand_launch(&b->od, rays, count, flags, hits, speculate, stats);
+  while (status == LT_ERROR_CAPACITY && b->pool_capacity < MAX_POOL) {
+    status = with_retry(s, stats, status);
+    begin = lt_now_ms();
+    if (!status) status = lt__ondemand_launch(&b->od, rays, count, flags, hits, speculate, stats);
+  }
+  double total = lt_now_ms() - begin;
+  if (status || !stats) return status;
+  if (mode_of(s) == LT_BUILD_FULL) {
+    lt__stats_add(stats, LT_STAT_TRACE_MS, total);
+    return LT_OK;
+  }
+  lt_stats *again;
+  if ((status = lt_stats_create(&again))) return status;
+  double retrace_start = lt_now_ms();
+  status = lt__ondemand_launch(&b->od, rays, count, flags, hits, 0, again);
+  double retrace = lt_now_ms() - retrace_start;
+  lt_stats_destroy(again);
+  lt__stats_add(stats, LT_STAT_TRACE_MS, retrace);
+  lt__stats_add(stats, LT_STAT_BUILD_MS, total > retrace ? total - retrace : 0.0);
+  return status;
+}
+
+static void put_stats(lt_structure *s, lt_stats *stats) {
+  bvh_state *b = s->state;
+  double nodes = 0, node_bytes, ref_bytes, pool_bytes;
+  lt__ondemand_nodes_built(&b->od, &nodes);
+  lt__stats_put(stats, LT_STAT_REFERENCES, (double)lt_scene_triangle_count(s->scene));
+  lt__stats_put(stats, LT_STAT_NODES_BUILT, nodes);
+  if (mode_of(s) == LT_BUILD_FULL) lt__stats_put(stats, LT_STAT_NODES_FULL, nodes);
+  lt__stats_put(stats, LT_STAT_MEMORY_BYTES, lt__ondemand_bytes(&b->od, &node_bytes, &ref_bytes, &pool_bytes));
+  lt__stats_put(stats, LT_STAT_NODE_BYTES, node_bytes);
+  lt__stats_put(stats, LT_STAT_REFERENCE_BYTES, ref_bytes);
+  lt__stats_put(stats, LT_STAT_POOL_BYTES, pool_bytes);
+}
+
+static void release(lt_structure *s) {
+  bvh_state *b = s->state;
+  if (b->live) lt__ondemand_release(&b->od);
+  b->live = 0;
+}
+
+lt__ondemand *lt__structure_ondemand(lt_structure *s) {
+  if (s->cls != &lt__structure_bvh) return NULL;
+  bvh_state *b = s->state;
+  return b->live ? &b->od : NULL;
+}
+
+static const char *const kernels[] = {"lt_bvh_ondemand", NULL};
+
+const lt__structure_class lt__structure_bvh = {
+    .name = "bvh",
+    .summary = "binned SAH BVH (Vinkler et al. 2016), built through the task pool in full or on demand",
+    .parameters = "--leaf-size N (16)  --bins N (32, at most 32)",
+    .modes = 1u << LT_BUILD_FULL | 1u << LT_BUILD_REQUESTED | 1u << LT_BUILD_SPECULATIVE,
+    .defaults = {.kind = LT_STRUCTURE_BVH, .build = LT_BUILD_SPECULATIVE, .max_leaf_size = 16, .sah_bins = 32,
+                 .traversal_cost = 1.0f, .pool_capacity = 0, .intersect = LT_INTERSECT_WATERTIGHT, .grid_density = 3.0f},
+    .state_size = sizeof(bvh_state),
+    .create = create,
+    .trace = trace,
+    .put_stats = put_stats,
+    .release = release,
+    .kernels = kernels,
+};

@@ -1,0 +1,78 @@
+/* Launches of a finished structure's trace kernel (see trace_launch.h). */
+#include "runtime/trace_launch.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "kernels/trace_kernel.h"
+#include "runtime/error.h"
+
+lt_status lt__trace_batch_begin(lt_context *ctx, lt__trace_batch *batch, const lt_ray *rays, int count, lt_hit *hits) {
+  memset(batch, 0, sizeof *batch);
+  batch->count = count;
+  lt_status status = lt__buffer_wrap(ctx, &batch->rays, rays, (size_t)count * sizeof(lt_ray));
+  if (status) return status;
+
+  /* Native kernels write the caller's hits in place; OpenCL writes a buffer read back later. */
+  if (ctx->kind == LT_DEVICE_NATIVE) return lt__buffer_wrap(ctx, &batch->hits, hits, (size_t)count * sizeof(lt_hit));
+  return lt__buffer_create(ctx, &batch->hits, (size_t)count * sizeof(lt_hit), NULL, LT_BUFFER_UNINIT);
+}
+
+lt_status lt__trace_batch_end(lt_context *ctx, lt__trace_batch *batch, lt_hit *hits, lt_status status) {
+  if (!status && ctx->kind == LT_DEVICE_OPENCL)
+    status = lt__buffer_read(ctx, &batch->hits, 0, (size_t)batch->count * sizeof(lt_hit), hits);
+  lt__buffer_release(&batch->rays);
+  lt__buffer_release(&batch->hits);
+  return status;
+}
+
+static lt_status overflow(void) {
+  return lt__fail(LT_ERROR_CAPACITY, "a traversal stack would overflow (the structure is deeper than its stack)");
+}
+
+lt_status lt__trace_opencl(lt_context *ctx, lt__kernel *kernel, cl_uint next, lt__trace_batch *batch) {
+  size_t groups = ((size_t)batch->count + (size_t)ctx->local_size - 1) / (size_t)ctx->local_size;
+  lt__buffer counters, error;
+  lt_status status = lt__buffer_create(ctx, &counters, 2 * groups * sizeof(lt_u32), NULL, 0);
+  if (status) return status;
+  status = lt__buffer_create(ctx, &error, sizeof(int), NULL, 0);
+  cl_int err = CL_SUCCESS;
+
+  /* The first launch of the kernel is compile time (lt__opencl_run): one work-group's worth of
+   * rays, counted into a buffer that is thrown away. */
+  if (!status && !kernel->warm) {
+    lt__buffer scratch;
+    status = lt__buffer_create(ctx, &scratch, 2 * sizeof(lt_u32), NULL, 0);
+    err = clSetKernelArg(kernel->kernel, next, sizeof(cl_mem), &scratch.mem);
+    err |= clSetKernelArg(kernel->kernel, next + 1, sizeof(cl_mem), &error.mem);
+    if (!status) status = lt__opencl_check(err, "setting trace kernel arguments");
+    if (!status) status = lt__opencl_run(ctx, kernel, 1, "warming up the trace kernel");
+    lt__buffer_release(&scratch);
+  }
+
+  /* Every ray, with the counters of each work-group in a slot of its own. */
+  if (!status) {
+    err = clSetKernelArg(kernel->kernel, next, sizeof(cl_mem), &counters.mem);
+    err |= clSetKernelArg(kernel->kernel, next + 1, sizeof(cl_mem), &error.mem);
+    status = lt__opencl_check(err, "setting trace kernel arguments");
+  }
+  if (!status) status = lt__opencl_run(ctx, kernel, groups, "running the trace kernel");
+  lt_u32 *sums = status ? NULL : malloc(2 * groups * sizeof *sums);
+  int failed = 0;
+  if (!status && !sums) status = lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory reading trace counters");
+  if (!status) status = lt__buffer_read(ctx, &counters, 0, 2 * groups * sizeof *sums, sums);
+  if (!status) status = lt__buffer_read(ctx, &error, 0, sizeof failed, &failed);
+  for (size_t g = 0; !status && g < groups; g++)
+    batch->traversal_steps += sums[2 * g], batch->intersections += sums[2 * g + 1];
+  free(sums);
+  lt__buffer_release(&counters);
+  lt__buffer_release(&error);
+  return !status && failed ? overflow() : status;
+}
+
+lt_status lt__trace_native(lt_context *ctx, void (*fn)(void *), const void *view, lt__trace_batch *batch) {
+  lt__native_trace_launch launch = {view, 0, 0, 0, 0};
+  lt_status status = lt__native_run(ctx->work_groups, fn, &launch);
+  batch->traversal_steps += launch.traversal_steps, batch->intersections += launch.intersections;
+  return !status && launch.error ? overflow() : status;
+}

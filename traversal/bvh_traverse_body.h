@@ -1,0 +1,133 @@
+/* The one BVH traversal body: nearest child first with a stack of far children (Aila and
+ * Laine, "Understanding the Efficiency of Ray Traversal on GPUs", 2009); leaf children are
+ * intersected as soon as their box is hit. On a tree still being built (the on-demand paper,
+ * section 3.3) a child whose link is unbuilt is requested from the pool when the ray gets
+ * there, and the ray suspends, keeping its stack and its best hit; a restart re-reads the
+ * parent's link. Instantiated by traversal/bvh_traverse.h ("template by include"):
+ *
+ *   #define LT_BVH_TRAVERSE_NAME      the function to define
+ *   #define LT_BVH_TRAVERSE_ONDEMAND  1: links may be unbuilt and change under the ray
+ *   #define LT_BVH_TRAVERSE_LEAF_TRIS 1: leaves are lt_tri in leaf order, 0: triangle numbers
+ *
+ * The function advances a ray started with lt_bvh_ray_start; it returns 1 when the ray is
+ * done, 0 when it waits for an unbuilt node. flags are the query flags (LT_QUERY_FLAG_*: any
+ * hit, the triangle test, the slab test). */
+
+#define LT_BVH_CAT2(a, b) a##b
+#define LT_BVH_CAT(a, b) LT_BVH_CAT2(a, b)
+#define LT_BVH_LEAF LT_BVH_CAT(LT_BVH_TRAVERSE_NAME, _leaf)
+
+/* Intersects the `count` references of a leaf from position `first`. */
+LT_DEVICE void LT_BVH_LEAF(const lt_bvh_view *v, lt_bvh_ray *q, lt_i32 first, lt_i32 count, lt_trace_counters *c) {
+  for (lt_i32 i = first; i < first + count; i++) {
+#if LT_BVH_TRAVERSE_LEAF_TRIS
+    lt_tri tri = v->tris[i];
+    float v0[3] = {tri.v0.x, tri.v0.y, tri.v0.z}, v1[3] = {tri.v1.x, tri.v1.y, tri.v1.z};
+    float v2[3] = {tri.v2.x, tri.v2.y, tri.v2.z};
+    lt_i32 prim = lt_float_as_int(tri.v0.w);
+#else
+    lt_i32 prim = v->index[i];
+    LT_GLOBAL const float *t = v->verts + 9 * (long)prim;
+    float v0[3] = {t[0], t[1], t[2]}, v1[3] = {t[3], t[4], t[5]}, v2[3] = {t[6], t[7], t[8]};
+#endif
+    c->intersections++;
+    lt_intersect_triangle(&q->r, v0, v1, v2, prim, &q->hit);
+  }
+}
+
+LT_DEVICE int LT_BVH_TRAVERSE_NAME(const lt_bvh_view *v, lt_bvh_ray *q, int flags, lt_trace_counters *c) {
+  LT_GLOBAL const lt_bvh_node *nodes = v->nodes;
+  int any_hit = flags & LT_QUERY_FLAG_ANY;
+  q->r.flags = flags;
+  for (;;) {
+    if (any_hit && q->hit.prim >= 0) return 1;
+
+#if LT_BVH_TRAVERSE_ONDEMAND
+    /* A link reference: resolve it, or suspend on it. */
+    if (q->cur <= -2) {
+      lt_i32 address = -2 - q->cur, link, count;
+      int kind = lt_bvh_read_link(nodes, address, &link, &count);
+      if (kind == LT_CHILD_UNBUILT) {
+        if (q->wait != address) {
+          lt_pool_request(v->pool, lt_bvh_unbuilt_slot(link), address);
+          lt_pool_count(v->pool, LT_POOL_STAT_STALLS, 1);
+          q->wait = address;
+        }
+        return 0;
+      }
+      q->wait = -1;
+      if (kind == LT_CHILD_LEAF) LT_BVH_LEAF(v, q, link, count, c);
+      q->cur = kind == LT_CHILD_INNER ? link : lt_bvh_ray_pop(q);
+      continue;
+    }
+#endif
+    if (q->cur < 0) return 1;
+
+    /* The node: in a growing tree its links are read one by one, atomically; a finished
+     * node is read whole. */
+    c->traversal_steps++;
+#if LT_BVH_TRAVERSE_ONDEMAND
+    LT_GLOBAL const lt_bvh_node *n = &nodes[q->cur];
+    lt_float4 lxy = n->left_xy, rxy = n->right_xy, z = n->lr_z;
+#else
+    lt_bvh_node n = nodes[q->cur];
+    lt_float4 lxy = n.left_xy, rxy = n.right_xy, z = n.lr_z;
+#endif
+    float lo[2][3] = {{lxy.x, lxy.z, z.x}, {rxy.x, rxy.z, z.z}};
+    float hi[2][3] = {{lxy.y, lxy.w, z.y}, {rxy.y, rxy.w, z.w}};
+
+    /* Both children's boxes against the ray, up to the best hit so far. */
+    float best = lt_bvh_ray_best(q);
+    lt_i32 next[2];
+    float t_entry[2];
+    int go[2];
+    for (int side = 0; side < 2; side++) {
+      lt_i32 link, count;
+#if LT_BVH_TRAVERSE_ONDEMAND
+      int kind = lt_bvh_read_link(nodes, q->cur * 2 + side, &link, &count);
+#else
+      int kind = lt_bvh_child(&n, side, &link, &count);
+#endif
+      go[side] = kind != LT_CHILD_EMPTY && lt_ray_box(&q->r, lo[side], hi[side], best, &t_entry[side]);
+      if (!go[side]) continue;
+
+      /* Leaves now; inner nodes go on; an unbuilt child is requested when the ray gets
+       * there (the far one may be hidden by then). */
+      if (kind == LT_CHILD_LEAF) {
+        LT_BVH_LEAF(v, q, link, count, c);
+        go[side] = 0;
+      } else if (kind == LT_CHILD_UNBUILT) {
+        next[side] = -2 - (q->cur * 2 + side);
+      } else {
+        next[side] = link;
+      }
+    }
+    if (any_hit && q->hit.prim >= 0) return 1;
+
+    /* The nearer child next, the farther one on the stack. */
+    if (go[0] && go[1]) {
+      int near_side = t_entry[0] <= t_entry[1] ? 0 : 1;
+      if (q->sp == LT_BVH_STACK_SIZE) {
+#if LT_BVH_TRAVERSE_ONDEMAND
+        lt_pool_fail(v->pool, LT_POOL_ERROR_STACK);
+#endif
+        q->overflow = 1;
+        return 1;
+      }
+      q->stack[q->sp] = next[1 - near_side], q->stack_t[q->sp] = t_entry[1 - near_side];
+      q->sp++;
+      q->cur = next[near_side];
+    } else if (go[0] || go[1]) {
+      q->cur = go[0] ? next[0] : next[1];
+    } else {
+      q->cur = lt_bvh_ray_pop(q);
+    }
+  }
+}
+
+#undef LT_BVH_LEAF
+#undef LT_BVH_CAT
+#undef LT_BVH_CAT2
+#undef LT_BVH_TRAVERSE_NAME
+#undef LT_BVH_TRAVERSE_ONDEMAND
+#undef LT_BVH_TRAVERSE_LEAF_TRIS

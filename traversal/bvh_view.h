@@ -1,0 +1,62 @@
+/* What a BVH traversal reads: the node array, the leaves' references in one of the two leaf
+ * formats (device/bvh_node.h says why there are two), and, for a tree still being built, the
+ * pool that builds the children it requests. */
+#ifndef LT_BVH_VIEW_H
+#define LT_BVH_VIEW_H
+
+#include "device/bvh_node.h"
+#include "device/pool.h"
+#include "traversal/ray_box.h"
+
+typedef struct lt_bvh_view {
+  LT_GLOBAL const lt_bvh_node *nodes;
+  LT_GLOBAL const lt_tri *tris;   /* host-built trees: triangles in leaf order */
+  LT_GLOBAL const lt_i32 *index;  /* pool-built trees: triangle numbers in leaf order, */
+  LT_GLOBAL const float *verts;   /* and the scene's vertices, 9 floats a triangle */
+  const lt_pool *pool;            /* on demand: where unbuilt children are requested */
+} lt_bvh_view;
+
+/* A ray in flight: enough state to suspend on an unbuilt child and resume. Stack entries are
+ * node indices, or references to unbuilt links (-2 - address) in a tree still being built. */
+typedef struct lt_bvh_ray {
+  lt_ray_setup r;
+  lt_hit_record hit;
+  lt_i32 stack[LT_BVH_STACK_SIZE];
+  float stack_t[LT_BVH_STACK_SIZE]; /* each far child's entry distance */
+  lt_i32 sp;
+  lt_i32 cur;      /* next node, a link reference (<= -2), or -1 when done */
+  lt_i32 wait;     /* link address the ray is suspended on, or -1 */
+  lt_i32 overflow; /* the stack would have overflowed: the answer is not to be trusted */
+} lt_bvh_ray;
+
+/* Starts a ray given in the ray file's layout (8 floats). */
+LT_DEVICE void lt_bvh_ray_start(lt_bvh_ray *q, LT_GLOBAL const float *ray) {
+  q->r = lt_ray_prepare(ray[0], ray[1], ray[2], ray[3], ray[4], ray[5], ray[6], ray[7]);
+  q->hit.t = q->r.tmax, q->hit.u = q->hit.v = 0.0f, q->hit.prim = -1;
+  q->sp = 0, q->wait = -1, q->overflow = 0;
+  q->cur = q->r.valid ? 0 : -1;
+}
+
+/* A finished ray's answer in the hit file's layout: a miss is t = +infinity, u = v = 0. */
+LT_DEVICE lt_hit_record lt_bvh_ray_answer(const lt_bvh_ray *q) {
+  lt_hit_record hit = q->hit;
+  if (hit.prim < 0) hit.t = INFINITY, hit.u = hit.v = 0.0f;
+  return hit;
+}
+
+/* The distance a box must be entered by to matter: the best hit so far, or the ray's end. */
+LT_DEVICE float lt_bvh_ray_best(const lt_bvh_ray *q) { return q->hit.prim >= 0 ? q->hit.t : q->r.tmax; }
+
+/* The next far child that the best hit so far has not ruled out: its entry distance against
+ * the best is the box test it passed when it was pushed, redone with the best as it is now,
+ * so a far child that a closer hit has since hidden is neither visited nor requested. */
+LT_DEVICE lt_i32 lt_bvh_ray_pop(lt_bvh_ray *q) {
+  float best = lt_bvh_ray_best(q);
+  while (q->sp > 0) {
+    q->sp--;
+    if (q->stack_t[q->sp] <= best) return q->stack[q->sp];
+  }
+  return -1;
+}
+
+#endif
