@@ -21,12 +21,11 @@ static const char usage[] =
     "         or a scene file (.json: meshes, instances, materials, lights, camera, image,\n"
     "         effects; see 'lazytrace help render')\n"
     "\n"
-    "OPTIONS  --structure bvh|lbvh          acceleration structure: the SAH BVH, or the LBVH\n"
-    "                                        baseline (full build only); kdtree, irgrid, grid and\n"
-    "                                        qbvh are planned and refused for now\n"
+    "OPTIONS  --structure NAME              acceleration structure (default bvh; the list below)\n"
     "         --build full|requested|speculative\n"
-    "                                        build mode (default speculative for bvh, full for\n"
-    "                                        lbvh): requested builds only the nodes rays reach\n"
+    "                                        build mode (default: speculative where the structure\n"
+    "                                        builds on demand, else full): requested builds only\n"
+    "                                        the nodes rays reach\n"
     "         --device auto|opencl[:N]|native\n"
     "                                        auto: OpenCL if a device exists, else native\n"
     "         --work-groups N  --local-size N  launch shape (default: what runs concurrently)\n"
@@ -35,6 +34,7 @@ static const char usage[] =
     "                                        slips through a shared edge or vertex; fast:\n"
     "                                        Moller-Trumbore, fewer operations, may leak)\n"
     "         --stats FILE|-                 statistics as one JSON object\n"
+    "         and each structure's own parameters, listed with it below\n"
     "\n"
     "Ray file: 32-byte little-endian records: float ox oy oz tmin dx dy dz tmax.\n"
     "Hit file: 16-byte records: float t u v, int32 prim (-1 on a miss);\n"
@@ -68,16 +68,33 @@ static const char *const command_help[][2] = {
     {"devices", "lazytrace devices\n  Lists the OpenCL devices found and the native backend.\n"},
 };
 
+/* The usage, then the structures as the library's registry describes them. */
+static void print_usage(FILE *out) {
+  fputs(usage, out);
+  fputs("\nStructures (--structure NAME):\n", out);
+  for (int k = 0; k < LT_STRUCTURE_COUNT; k++) {
+    lt_structure_kind kind = (lt_structure_kind)k;
+    unsigned modes = lt_structure_modes(kind);
+    fprintf(out, "  %-6s %s\n         builds: %s%s%s (default %s)", lt_structure_kind_name(kind), lt_structure_summary(kind),
+            modes & (1u << LT_BUILD_FULL) ? "full" : "", modes & (1u << LT_BUILD_REQUESTED) ? ", requested" : "",
+            modes & (1u << LT_BUILD_SPECULATIVE) ? ", speculative" : "",
+            lt_build_mode_name(lt_structure_config_default(kind).build));
+    const char *params = lt_structure_parameters(kind);
+    fprintf(out, "%s%s\n", *params ? "; options: " : "", params);
+  }
+  fprintf(out, "  planned, refused for now: %s\n", lt_structure_planned());
+}
+
 int main(int argc, char **argv) {
   if (argc < 2 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0) {
-    fputs(usage, argc < 2 ? stderr : stdout);
+    print_usage(argc < 2 ? stderr : stdout);
     return argc < 2 ? 2 : 0;
   }
   int n_help = (int)(sizeof command_help / sizeof command_help[0]);
   if (strcmp(argv[1], "help") == 0) {
     for (int i = 0; argc > 2 && i < n_help; i++)
       if (strcmp(argv[2], command_help[i][0]) == 0) return fputs(command_help[i][1], stdout), 0;
-    fputs(usage, stdout);
+    print_usage(stdout);
     return 0;
   }
 

@@ -356,13 +356,15 @@ static void time_run(setting *st, const lt_scene *scene, const lt_ray *rays, siz
 /* ---- Leaks on every structure, mode and backend ---- */
 
 static void leak_table(FILE *csv) {
-  static const struct {
+  /* Every structure and build mode the registry lists. */
+  struct {
     lt_structure_kind kind;
     lt_build_mode build;
-  } variants[] = {{LT_STRUCTURE_BVH, LT_BUILD_FULL},
-                  {LT_STRUCTURE_BVH, LT_BUILD_REQUESTED},
-                  {LT_STRUCTURE_BVH, LT_BUILD_SPECULATIVE},
-                  {LT_STRUCTURE_LBVH, LT_BUILD_FULL}};
+  } variants[3 * LT_STRUCTURE_COUNT];
+  lt_structure_kind kinds[3 * LT_STRUCTURE_COUNT];
+  lt_build_mode modes[3 * LT_STRUCTURE_COUNT];
+  size_t variant_count = lt_structure_variants(kinds, modes, 3 * LT_STRUCTURE_COUNT);
+  for (size_t v = 0; v < variant_count; v++) variants[v].kind = kinds[v], variants[v].build = modes[v];
   lt_context *contexts[2] = {native, NULL};
   lt_context_config opencl = {LT_DEVICE_OPENCL, 0, 0, 0, 1};
   if (lt_context_create(&opencl, &contexts[1]) != LT_OK) contexts[1] = NULL;
@@ -378,7 +380,7 @@ static void leak_table(FILE *csv) {
   printf("|---|---|---|---:|---:|---:|---:|\n");
   for (int x = 0; x < 2; x++) {
     if (!contexts[x]) continue;
-    for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++) {
+    for (size_t v = 0; v < variant_count; v++) {
       size_t leaks[2][2] = {{0, 0}, {0, 0}};
       for (int fast = 0; fast < 2; fast++)
         for (int c = 0; c < CLOSED_SETS; c++) {

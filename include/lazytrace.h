@@ -218,6 +218,10 @@ const char *lt_build_mode_name(lt_build_mode mode);
 const char *lt_structure_summary(lt_structure_kind kind);
 const char *lt_structure_parameters(lt_structure_kind kind);
 unsigned lt_structure_modes(lt_structure_kind kind);
+/* Every structure and build mode this library implements, in registry order, as pairs in
+ * kinds[i], modes[i] (up to max of them); returns how many there are. Tests and benchmarks
+ * that try everything take their list from here. */
+size_t lt_structure_variants(lt_structure_kind *kinds, lt_build_mode *modes, size_t max);
 /* Names that are planned but not implemented yet, separated by commas (refused by the parser). */
 const char *lt_structure_planned(void);
 /* "watertight" or "fast". */

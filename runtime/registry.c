@@ -77,6 +77,18 @@ unsigned lt_structure_modes(lt_structure_kind kind) {
   return c ? c->modes : 0;
 }
 
+size_t lt_structure_variants(lt_structure_kind *kinds, lt_build_mode *modes, size_t max) {
+  size_t n = 0;
+  for (int k = 0; k < LT_STRUCTURE_COUNT; k++)
+    for (int m = LT_BUILD_FULL; m <= LT_BUILD_SPECULATIVE; m++)
+      if (classes[k]->modes & (1u << m)) {
+        if (n < max && kinds) kinds[n] = (lt_structure_kind)k;
+        if (n < max && modes) modes[n] = (lt_build_mode)m;
+        n++;
+      }
+  return n;
+}
+
 lt_structure_config lt_structure_config_default(lt_structure_kind kind) {
   const lt__structure_class *c = lt__structure_class_of(kind);
   lt_structure_config none;

@@ -24,16 +24,15 @@
 
 /* ---- Every structure, build mode and backend ---- */
 
+/* Every structure and build mode, as the registry lists them. */
 typedef struct variant {
   lt_structure_kind kind;
   lt_build_mode build;
 } variant;
 
-static const variant variants[] = {{LT_STRUCTURE_BVH, LT_BUILD_FULL},
-                                   {LT_STRUCTURE_BVH, LT_BUILD_REQUESTED},
-                                   {LT_STRUCTURE_BVH, LT_BUILD_SPECULATIVE},
-                                   {LT_STRUCTURE_LBVH, LT_BUILD_FULL}};
-#define VARIANTS (sizeof variants / sizeof variants[0])
+#define MAX_VARIANTS (3 * LT_STRUCTURE_COUNT)
+static variant variants[MAX_VARIANTS];
+static size_t VARIANTS;
 
 /* One context per backend for the whole file: OpenCL kernels compile once. */
 static lt_context *contexts[2];
@@ -41,6 +40,10 @@ static int context_count;
 
 static int setup_contexts(void **state) {
   (void)state;
+  lt_structure_kind kinds[MAX_VARIANTS];
+  lt_build_mode modes[MAX_VARIANTS];
+  VARIANTS = lt_structure_variants(kinds, modes, MAX_VARIANTS);
+  for (size_t v = 0; v < VARIANTS; v++) variants[v] = (variant){kinds[v], modes[v]};
   lt_context_config native = {LT_DEVICE_NATIVE, 0, 2, 0, 1}, opencl = {LT_DEVICE_OPENCL, 0, 0, 0, 1};
   if (lt_context_create(&native, &contexts[context_count]) == LT_OK) context_count++;
   if (!getenv("LT_TEST_NATIVE_ONLY") && lt_context_create(&opencl, &contexts[context_count]) == LT_OK)
