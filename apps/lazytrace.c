@@ -34,7 +34,7 @@ static const char usage[] =
     "                                        slips through a shared edge or vertex; fast:\n"
     "                                        Moller-Trumbore, fewer operations, may leak)\n"
     "         --stats FILE|-                 statistics as one JSON object\n"
-    "         and each structure's own parameters, listed with it below\n"
+    "         and each structure's own options (--leaf-size, --bins, --grid-density), below\n"
     "\n"
     "Ray file: 32-byte little-endian records: float ox oy oz tmin dx dy dz tmax.\n"
     "Hit file: 16-byte records: float t u v, int32 prim (-1 on a miss);\n"

@@ -55,6 +55,12 @@ static int apply(lt_cli *cli, const char *option, const char *value) {
     if (sscanf(value, "%dx%d%n", &w, &h, &used) != 2 || value[used] || w <= 0 || h <= 0 || w > 16384 || h > 16384)
       return bad(option, value, "WIDTHxHEIGHT, each 1 to 16384");
     cli->width = w, cli->height = h, cli->size_given = 1;
+  } else if (strcmp(option, "--grid-density") == 0) {
+    char *end;
+    errno = 0;
+    double d = strtod(value, &end);
+    if (errno || end == value || *end || !(d > 0.0 && d <= 1000.0)) return bad(option, value, "a number above 0, at most 1000");
+    cli->structure.grid_density = (float)d;
   } else if (strcmp(option, "--seed") == 0) {
     char *end;
     errno = 0;

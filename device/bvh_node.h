@@ -120,7 +120,7 @@ LT_DEVICE int lt_bvh_read_link(LT_GLOBAL const lt_bvh_node *nodes, lt_i32 addres
 }
 
 /* Reads child `side` of a node of a finished tree (plain loads); returns its kind. */
-LT_DEVICE int lt_bvh_child(const lt_bvh_node *n, int side, lt_i32 *link, lt_i32 *count) {
+LT_DEVICE int lt_bvh_child(LT_GLOBAL const lt_bvh_node *n, int side, lt_i32 *link, lt_i32 *count) {
   *link = n->link[side], *count = n->link[2 + side];
   return lt_bvh_child_kind(*link, *count);
 }

@@ -73,7 +73,7 @@ LT_DEVICE void lt_od_flush(const lt_od_args *a, const lt_trace_counters *c) {
 #define LT_LOOP_TASK_KINDS(X) X(LT_OD_KIND_BVH_NODE, lt_bvh_chunk, lt_bvh_end_phase, &a->build)
 #include "kernels/persistent_loop_body.h"
 
-/* Both backends' entry: the set-up launch (one work-group) makes the super-root and the root's
+/* Both backends' entry: the set-up launch (work-item 0 of work-group 0) makes the super-root and the root's
  * task; a normal launch runs the persistent loop. */
 LT_DEVICE void lt_od_kernel(lt_od_args *a, int setup, LT_LOCAL lt_loop_shared *sh) {
   a->build.task_kind = LT_OD_KIND_BVH_NODE;

@@ -62,7 +62,7 @@ LT_DEVICE int lt_sort_query_advance(const lt_sort_args *a, lt_sort_query *q) {
 #define LT_LOOP_TASK_KINDS(X) X(LT_SORT_KIND_PARTITION, lt_sort_chunk, lt_sort_end_phase, &a->build)
 #include "kernels/persistent_loop_body.h"
 
-/* Both backends' entry: the set-up launch (one work-group) makes the root; a normal launch
+/* Both backends' entry: the set-up launch (work-item 0 of work-group 0) makes the root; a normal launch
  * runs the persistent loop. */
 LT_DEVICE void lt_sort_kernel(lt_sort_args *a, int setup, LT_LOCAL lt_loop_shared *sh) {
   a->build.task_kind = LT_SORT_KIND_PARTITION;

@@ -17,5 +17,7 @@ void lt__native_lazy_sort_kernel(void *arg);
 void lt__native_bvh_ondemand_kernel(void *arg);
 /* kernels/native_bvh_trace.c: arg is an lt__native_trace_launch over an lt_bvh_trace_view. */
 void lt__native_bvh_trace_kernel(void *arg);
+/* kernels/native_grid_trace.c: arg is an lt__native_trace_launch over an lt_grid_trace_view. */
+void lt__native_grid_trace_kernel(void *arg);
 
 #endif

@@ -1,4 +1,5 @@
 /* The one OpenCL program lazytrace builds: every entry point, includes expanded once. */
 #include "kernels/bvh_trace.cl"
+#include "kernels/grid_trace.cl"
 #include "kernels/lazy_sort.cl"
 #include "kernels/bvh_ondemand.cl"

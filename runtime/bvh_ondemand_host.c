@@ -125,7 +125,7 @@ void lt__ondemand_release(lt__ondemand *od) {
 /* The kernel's arguments from its one list (kernels/bvh_ondemand.h). */
 LT__KERNEL_ARGS(od_args, LT_OD_ARGS, lt_od_args)
 
-/* One launch on either backend: the set-up launch (one work-group) or the persistent loop
+/* One launch on either backend: the set-up launch (work-group 0 makes the root) or the persistent loop
  * over `count` rays (exactly as many work-groups as run at once: they wait on each other). */
 static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, int count, int flags, int speculate,
                         int setup) {
@@ -143,7 +143,9 @@ static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, in
   args.max_idle_polls = od->pool.config.max_idle_polls, args.speculate = speculate, args.prim_count = od->count;
   args.root_lo = (lt_float4){od->bounds.lo[0], od->bounds.lo[1], od->bounds.lo[2], 0.0f};
   args.root_hi = (lt_float4){od->bounds.hi[0], od->bounds.hi[1], od->bounds.hi[2], 0.0f};
-  int groups = setup ? 1 : ctx->work_groups;
+  /* The set-up launch has the shape of the others on OpenCL, because PoCL compiles the kernel
+   * for the shape of its first launch (counted as compile time); only group 0 works in it. */
+  int groups = setup && ctx->kind == LT_DEVICE_NATIVE ? 1 : ctx->work_groups;
   if (ctx->kind == LT_DEVICE_NATIVE) {
     lt_od_args view;
     od_args_view(&args, &view);

@@ -6,7 +6,8 @@
  *
  * defines `name` (the struct: an lt__buffer * per BUF entry, the value per VAL entry),
  * `name##_set(kernel, args, &next)` (returns a cl_int; next gets the index after the list, for
- * an entry point's own last parameters) and `name##_view(args, view)`. */
+ * an entry point's own last parameters; `name##_set_any` takes the args as a void pointer, for
+ * generic launchers) and `name##_view(args, view)`. */
 #ifndef LT_KERNEL_ARGS_HOST_H
 #define LT_KERNEL_ARGS_HOST_H
 
@@ -38,6 +39,9 @@
   static inline void name##_view(const name *args, view_type *view) {                          \
     memset(view, 0, sizeof *view);                                                             \
     LIST(LT__ARG_VIEW)                                                                         \
+  }                                                                                            \
+  static inline cl_int name##_set_any(cl_kernel kernel, const void *args, cl_uint *next) {     \
+    return name##_set(kernel, (const name *)args, next);                                       \
   }
 
 #endif

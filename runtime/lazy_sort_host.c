@@ -21,7 +21,7 @@ struct lt_lazy_sort {
 /* The kernel's arguments from its one list (kernels/lazy_sort.h). */
 LT__KERNEL_ARGS(sort_args, LT_SORT_ARGS, lt_sort_args)
 
-/* One launch on either backend: the set-up launch (one work-group) or the persistent loop
+/* One launch on either backend: the set-up launch (work-group 0 makes the root) or the persistent loop
  * over `count` queries (exactly as many work-groups as run at once: they wait on each other). */
 static lt_status launch(lt_lazy_sort *s, lt__buffer *queries, lt__buffer *answers, int count, int setup) {
   lt_context *ctx = s->ctx;
@@ -32,7 +32,9 @@ static lt_status launch(lt_lazy_sort *s, lt__buffer *queries, lt__buffer *answer
   args.task_kind = 0; /* the kernel numbers its own task kinds */
   args.queries = queries, args.answers = answers;
   args.key_count = s->count, args.query_count = count, args.max_idle_polls = s->pool.config.max_idle_polls;
-  int groups = setup ? 1 : ctx->work_groups;
+  /* The set-up launch has the shape of the others on OpenCL, because PoCL compiles the kernel
+   * for the shape of its first launch (counted as compile time); only group 0 works in it. */
+  int groups = setup && ctx->kind == LT_DEVICE_NATIVE ? 1 : ctx->work_groups;
   if (ctx->kind == LT_DEVICE_NATIVE) {
     lt_sort_args view;
     sort_args_view(&args, &view);

@@ -30,29 +30,41 @@ static lt_status overflow(void) {
   return lt__fail(LT_ERROR_CAPACITY, "a traversal stack would overflow (the structure is deeper than its stack)");
 }
 
-lt_status lt__trace_opencl(lt_context *ctx, lt__kernel *kernel, cl_uint next, lt__trace_batch *batch) {
+/* PoCL compiles a kernel's work-group function at its first launch, and again for a launch of
+ * a different scale (docs/notes/task_pool.md): the first launch has no rays and as many
+ * work-groups as a large batch, so that the compile lands in compile time, not trace time. */
+#define WARM_UP_GROUPS 1024
+
+lt_status lt__trace_opencl(lt_context *ctx, const char *entry, lt__set_args_fn set_args, void *args, lt_i32 *ray_count,
+                           lt__trace_batch *batch) {
+  lt__kernel *kernel;
+  lt_status status = lt__opencl_kernel(ctx, entry, &kernel);
+  if (status) return status;
   size_t groups = ((size_t)batch->count + (size_t)ctx->local_size - 1) / (size_t)ctx->local_size;
   lt__buffer counters, error;
-  lt_status status = lt__buffer_create(ctx, &counters, 2 * groups * sizeof(lt_u32), NULL, 0);
+  status = lt__buffer_create(ctx, &counters, 2 * (groups > WARM_UP_GROUPS ? groups : WARM_UP_GROUPS) * sizeof(lt_u32),
+                             NULL, 0);
   if (status) return status;
   status = lt__buffer_create(ctx, &error, sizeof(int), NULL, 0);
+  cl_uint next = 0;
   cl_int err = CL_SUCCESS;
 
-  /* The first launch of the kernel is compile time (lt__opencl_run): one work-group's worth of
-   * rays, counted into a buffer that is thrown away. */
+  /* The first launch: no rays, counted as compile time (lt__opencl_run). */
   if (!status && !kernel->warm) {
-    lt__buffer scratch;
-    status = lt__buffer_create(ctx, &scratch, 2 * sizeof(lt_u32), NULL, 0);
-    err = clSetKernelArg(kernel->kernel, next, sizeof(cl_mem), &scratch.mem);
+    lt_i32 count = *ray_count;
+    *ray_count = 0;
+    err = set_args(kernel->kernel, args, &next);
+    err |= clSetKernelArg(kernel->kernel, next, sizeof(cl_mem), &counters.mem);
     err |= clSetKernelArg(kernel->kernel, next + 1, sizeof(cl_mem), &error.mem);
-    if (!status) status = lt__opencl_check(err, "setting trace kernel arguments");
-    if (!status) status = lt__opencl_run(ctx, kernel, 1, "warming up the trace kernel");
-    lt__buffer_release(&scratch);
+    *ray_count = count;
+    status = lt__opencl_check(err, "setting trace kernel arguments");
+    if (!status) status = lt__opencl_run(ctx, kernel, WARM_UP_GROUPS, "warming up the trace kernel");
   }
 
   /* Every ray, with the counters of each work-group in a slot of its own. */
   if (!status) {
-    err = clSetKernelArg(kernel->kernel, next, sizeof(cl_mem), &counters.mem);
+    err = set_args(kernel->kernel, args, &next);
+    err |= clSetKernelArg(kernel->kernel, next, sizeof(cl_mem), &counters.mem);
     err |= clSetKernelArg(kernel->kernel, next + 1, sizeof(cl_mem), &error.mem);
     status = lt__opencl_check(err, "setting trace kernel arguments");
   }

@@ -6,6 +6,7 @@
 
 #include <stdint.h>
 
+#include "device/compat.h"
 #include "runtime/buffer.h"
 
 typedef struct lt__trace_batch {
@@ -18,10 +19,14 @@ typedef struct lt__trace_batch {
 lt_status lt__trace_batch_begin(lt_context *ctx, lt__trace_batch *batch, const lt_ray *rays, int count, lt_hit *hits);
 /* Reads the hits back (OpenCL) and releases the buffers. */
 lt_status lt__trace_batch_end(lt_context *ctx, lt__trace_batch *batch, lt_hit *hits, lt_status status);
-/* OpenCL: the kernel's own arguments are set up to index `next`; this adds the counters and
- * the error flag, launches one work-item per ray and sums the counters. A stack overflow is
- * LT_ERROR_CAPACITY. */
-lt_status lt__trace_opencl(lt_context *ctx, lt__kernel *kernel, cl_uint next, lt__trace_batch *batch);
+/* Sets a kernel's own arguments (runtime/kernel_args_host.h, name##_set_any). */
+typedef cl_int (*lt__set_args_fn)(cl_kernel kernel, const void *args, cl_uint *next);
+/* OpenCL: runs entry point `entry` over the batch, one work-item per ray: its own arguments
+ * from set_args(args), then the counters and the error flag; sums the counters. `ray_count`
+ * points at the batch's count inside args: the kernel's first launch (compile time) runs with
+ * it at 0. A stack overflow is LT_ERROR_CAPACITY. */
+lt_status lt__trace_opencl(lt_context *ctx, const char *entry, lt__set_args_fn set_args, void *args, lt_i32 *ray_count,
+                           lt__trace_batch *batch);
 /* Native: runs fn (an lt__native_trace_launch over `view`) on every work-group. */
 lt_status lt__trace_native(lt_context *ctx, void (*fn)(void *), const void *view, lt__trace_batch *batch);
 

@@ -18,7 +18,8 @@
 #define LT_BVH_LEAF LT_BVH_CAT(LT_BVH_TRAVERSE_NAME, _leaf)
 
 /* Intersects the `count` references of a leaf from position `first`. */
-LT_DEVICE void LT_BVH_LEAF(const lt_bvh_view *v, lt_bvh_ray *q, lt_i32 first, lt_i32 count, lt_trace_counters *c) {
+LT_DEVICE void LT_BVH_LEAF(const lt_bvh_view *v, const lt_ray_setup *r, lt_hit_record *hit, lt_i32 first, lt_i32 count,
+                           lt_trace_counters *c) {
   for (lt_i32 i = first; i < first + count; i++) {
 #if LT_BVH_TRAVERSE_LEAF_TRIS
     lt_tri tri = v->tris[i];
@@ -31,7 +32,7 @@ LT_DEVICE void LT_BVH_LEAF(const lt_bvh_view *v, lt_bvh_ray *q, lt_i32 first, lt
     float v0[3] = {t[0], t[1], t[2]}, v1[3] = {t[3], t[4], t[5]}, v2[3] = {t[6], t[7], t[8]};
 #endif
     c->intersections++;
-    lt_intersect_triangle(&q->r, v0, v1, v2, prim, &q->hit);
+    lt_intersect_triangle(r, v0, v1, v2, prim, hit);
   }
 }
 
@@ -39,13 +40,21 @@ LT_DEVICE int LT_BVH_TRAVERSE_NAME(const lt_bvh_view *v, lt_bvh_ray *q, int flag
   LT_GLOBAL const lt_bvh_node *nodes = v->nodes;
   int any_hit = flags & LT_QUERY_FLAG_ANY;
   q->r.flags = flags;
+
+  /* The node, the stack pointer and the best hit live in locals while the ray moves, and go
+   * back into the ray's state when it stops or suspends: compilers keep locals in registers,
+   * and a hit apart from the ray cannot alias it. */
+  const lt_ray_setup *r = &q->r;
+  lt_hit_record hit = q->hit;
+  lt_i32 cur = q->cur, sp = q->sp;
+  int done = 1;
   for (;;) {
-    if (any_hit && q->hit.prim >= 0) return 1;
+    if (any_hit && hit.prim >= 0) break;
 
 #if LT_BVH_TRAVERSE_ONDEMAND
     /* A link reference: resolve it, or suspend on it. */
-    if (q->cur <= -2) {
-      lt_i32 address = -2 - q->cur, link, count;
+    if (cur <= -2) {
+      lt_i32 address = -2 - cur, link, count;
       int kind = lt_bvh_read_link(nodes, address, &link, &count);
       if (kind == LT_CHILD_UNBUILT) {
         if (q->wait != address) {
@@ -53,76 +62,96 @@ LT_DEVICE int LT_BVH_TRAVERSE_NAME(const lt_bvh_view *v, lt_bvh_ray *q, int flag
           lt_pool_count(v->pool, LT_POOL_STAT_STALLS, 1);
           q->wait = address;
         }
-        return 0;
+        done = 0;
+        break;
       }
       q->wait = -1;
-      if (kind == LT_CHILD_LEAF) LT_BVH_LEAF(v, q, link, count, c);
-      q->cur = kind == LT_CHILD_INNER ? link : lt_bvh_ray_pop(q);
+      if (kind == LT_CHILD_LEAF) LT_BVH_LEAF(v, r, &hit, link, count, c);
+      if (kind == LT_CHILD_INNER) {
+        cur = link;
+      } else {
+        q->sp = sp, q->hit = hit;
+        cur = lt_bvh_ray_pop(q);
+        sp = q->sp;
+      }
       continue;
     }
 #endif
-    if (q->cur < 0) return 1;
+    if (cur < 0) break;
 
-    /* The node: in a growing tree its links are read one by one, atomically; a finished
-     * node is read whole. */
+    /* The node's boxes; in a growing tree its links are read one by one, atomically, in a
+     * finished one with plain loads. */
     c->traversal_steps++;
-#if LT_BVH_TRAVERSE_ONDEMAND
-    LT_GLOBAL const lt_bvh_node *n = &nodes[q->cur];
+    LT_GLOBAL const lt_bvh_node *n = &nodes[cur];
     lt_float4 lxy = n->left_xy, rxy = n->right_xy, z = n->lr_z;
-#else
-    lt_bvh_node n = nodes[q->cur];
-    lt_float4 lxy = n.left_xy, rxy = n.right_xy, z = n.lr_z;
-#endif
     float lo[2][3] = {{lxy.x, lxy.z, z.x}, {rxy.x, rxy.z, z.z}};
     float hi[2][3] = {{lxy.y, lxy.w, z.y}, {rxy.y, rxy.w, z.w}};
 
     /* Both children's boxes against the ray, up to the best hit so far. */
-    float best = lt_bvh_ray_best(q);
+    float best = hit.prim >= 0 ? hit.t : r->tmax;
     lt_i32 next[2];
     float t_entry[2];
     int go[2];
     for (int side = 0; side < 2; side++) {
       lt_i32 link, count;
 #if LT_BVH_TRAVERSE_ONDEMAND
-      int kind = lt_bvh_read_link(nodes, q->cur * 2 + side, &link, &count);
+      int kind = lt_bvh_read_link(nodes, cur * 2 + side, &link, &count);
 #else
-      int kind = lt_bvh_child(&n, side, &link, &count);
+      int kind = lt_bvh_child(n, side, &link, &count);
 #endif
-      go[side] = kind != LT_CHILD_EMPTY && lt_ray_box(&q->r, lo[side], hi[side], best, &t_entry[side]);
+      go[side] = kind != LT_CHILD_EMPTY && lt_ray_box(r, lo[side], hi[side], best, &t_entry[side]);
       if (!go[side]) continue;
 
       /* Leaves now; inner nodes go on; an unbuilt child is requested when the ray gets
        * there (the far one may be hidden by then). */
       if (kind == LT_CHILD_LEAF) {
-        LT_BVH_LEAF(v, q, link, count, c);
+        LT_BVH_LEAF(v, r, &hit, link, count, c);
         go[side] = 0;
       } else if (kind == LT_CHILD_UNBUILT) {
-        next[side] = -2 - (q->cur * 2 + side);
+        next[side] = -2 - (cur * 2 + side);
       } else {
         next[side] = link;
       }
     }
-    if (any_hit && q->hit.prim >= 0) return 1;
+    if (any_hit && hit.prim >= 0) break;
 
     /* The nearer child next, the farther one on the stack. */
     if (go[0] && go[1]) {
       int near_side = t_entry[0] <= t_entry[1] ? 0 : 1;
-      if (q->sp == LT_BVH_STACK_SIZE) {
+      if (sp == LT_BVH_STACK_SIZE) {
 #if LT_BVH_TRAVERSE_ONDEMAND
         lt_pool_fail(v->pool, LT_POOL_ERROR_STACK);
 #endif
         q->overflow = 1;
-        return 1;
+        break;
       }
-      q->stack[q->sp] = next[1 - near_side], q->stack_t[q->sp] = t_entry[1 - near_side];
-      q->sp++;
-      q->cur = next[near_side];
+      q->stack[sp] = next[1 - near_side];
+#if LT_BVH_TRAVERSE_CULL_POPS
+      q->stack_t[sp] = t_entry[1 - near_side];
+#endif
+      sp++;
+      cur = next[near_side];
     } else if (go[0] || go[1]) {
-      q->cur = go[0] ? next[0] : next[1];
+      cur = go[0] ? next[0] : next[1];
     } else {
-      q->cur = lt_bvh_ray_pop(q);
+#if LT_BVH_TRAVERSE_CULL_POPS
+      /* The next far child the best hit so far has not ruled out (lt_bvh_ray_pop). */
+      float best_now = hit.prim >= 0 ? hit.t : r->tmax;
+      cur = -1;
+      while (sp > 0) {
+        sp--;
+        if (q->stack_t[sp] <= best_now) {
+          cur = q->stack[sp];
+          break;
+        }
+      }
+#else
+      cur = sp > 0 ? q->stack[--sp] : -1;
+#endif
     }
   }
+  q->cur = cur, q->sp = sp, q->hit = hit;
+  return done;
 }
 
 #undef LT_BVH_LEAF
@@ -131,3 +160,4 @@ LT_DEVICE int LT_BVH_TRAVERSE_NAME(const lt_bvh_view *v, lt_bvh_ray *q, int flag
 #undef LT_BVH_TRAVERSE_NAME
 #undef LT_BVH_TRAVERSE_ONDEMAND
 #undef LT_BVH_TRAVERSE_LEAF_TRIS
+#undef LT_BVH_TRAVERSE_CULL_POPS
