@@ -29,12 +29,12 @@ static const char usage[] =
     "         --device auto|opencl[:N]|native\n"
     "                                        auto: OpenCL if a device exists, else native\n"
     "         --work-groups N  --local-size N  launch shape (default: what runs concurrently)\n"
-    "         --leaf-size N  --bins N          SAH BVH parameters (default 16 and 32)\n"
+
     "         --intersect watertight|fast    ray-triangle test (default watertight: no ray\n"
     "                                        slips through a shared edge or vertex; fast:\n"
     "                                        Moller-Trumbore, fewer operations, may leak)\n"
     "         --stats FILE|-                 statistics as one JSON object\n"
-    "         and each structure's own options (--leaf-size, --bins, --grid-density), below\n"
+    "         and each structure's own options, listed with it below\n"
     "\n"
     "Ray file: 32-byte little-endian records: float ox oy oz tmin dx dy dz tmax.\n"
     "Hit file: 16-byte records: float t u v, int32 prim (-1 on a miss);\n"
@@ -75,12 +75,16 @@ static void print_usage(FILE *out) {
   for (int k = 0; k < LT_STRUCTURE_COUNT; k++) {
     lt_structure_kind kind = (lt_structure_kind)k;
     unsigned modes = lt_structure_modes(kind);
-    fprintf(out, "  %-6s %s\n         builds: %s%s%s (default %s)", lt_structure_kind_name(kind), lt_structure_summary(kind),
+    fprintf(out, "  %-6s %s\n         builds: %s%s%s (default %s)\n", lt_structure_kind_name(kind), lt_structure_summary(kind),
             modes & (1u << LT_BUILD_FULL) ? "full" : "", modes & (1u << LT_BUILD_REQUESTED) ? ", requested" : "",
             modes & (1u << LT_BUILD_SPECULATIVE) ? ", speculative" : "",
             lt_build_mode_name(lt_structure_config_default(kind).build));
-    const char *params = lt_structure_parameters(kind);
-    fprintf(out, "%s%s\n", *params ? "; options: " : "", params);
+    for (const char *p = lt_structure_parameters(kind); *p;) {
+      const char *end = strchr(p, '\n');
+      int len = end ? (int)(end - p) : (int)strlen(p);
+      fprintf(out, "         %.*s\n", len, p);
+      p += len + (end != NULL);
+    }
   }
   fprintf(out, "  planned, refused for now: %s\n", lt_structure_planned());
 }

@@ -55,12 +55,6 @@ static int apply(lt_cli *cli, const char *option, const char *value) {
     if (sscanf(value, "%dx%d%n", &w, &h, &used) != 2 || value[used] || w <= 0 || h <= 0 || w > 16384 || h > 16384)
       return bad(option, value, "WIDTHxHEIGHT, each 1 to 16384");
     cli->width = w, cli->height = h, cli->size_given = 1;
-  } else if (strcmp(option, "--grid-density") == 0) {
-    char *end;
-    errno = 0;
-    double d = strtod(value, &end);
-    if (errno || end == value || *end || !(d > 0.0 && d <= 1000.0)) return bad(option, value, "a number above 0, at most 1000");
-    cli->structure.grid_density = (float)d;
   } else if (strcmp(option, "--seed") == 0) {
     char *end;
     errno = 0;
@@ -74,10 +68,15 @@ static int apply(lt_cli *cli, const char *option, const char *value) {
                 : strcmp(option, "--spp") == 0            ? &cli->spp
                 : strcmp(option, "--work-groups") == 0    ? &cli->context.work_groups
                 : strcmp(option, "--local-size") == 0     ? &cli->context.local_size
-                : strcmp(option, "--leaf-size") == 0      ? &cli->structure.max_leaf_size
-                : strcmp(option, "--bins") == 0           ? &cli->structure.sah_bins
                                                           : NULL;
-    if (!slot) return fprintf(stderr, "lazytrace: unknown option '%s' (run 'lazytrace --help')\n", option), 1;
+    if (!slot) {
+      /* The structures' own options, as the registry lists them. */
+      lt_status status = lt_structure_option(&cli->structure, option, value);
+      if (status == LT_ERROR_UNSUPPORTED)
+        return fprintf(stderr, "lazytrace: unknown option '%s' (run 'lazytrace --help')\n", option), 1;
+      if (status) return fprintf(stderr, "lazytrace: %s\n", lt_last_error()), 1;
+      return 0;
+    }
     if ((n = parse_positive(value, 1 << 24)) < 0) return bad(option, value, "a positive integer");
     *slot = (int)n;
   }

@@ -214,11 +214,15 @@ lt_status lt_structure_kind_parse(const char *name, lt_structure_kind *out);
 lt_status lt_build_mode_parse(const char *name, lt_build_mode *out);
 const char *lt_structure_kind_name(lt_structure_kind kind);
 const char *lt_build_mode_name(lt_build_mode mode);
-/* What the registry says of a structure: a one-line summary and its parameters with their
- * defaults, for help text; the build modes it can be built in, as bits 1 << mode. */
+/* What the registry says of a structure: a one-line summary and its options with their
+ * defaults, one line each, for help text; the build modes it can be built in, as bits 1 << mode. */
 const char *lt_structure_summary(lt_structure_kind kind);
 const char *lt_structure_parameters(lt_structure_kind kind);
 unsigned lt_structure_modes(lt_structure_kind kind);
+/* Sets the config field behind a structure's command-line option ("--leaf-size", "16"), as
+ * the registry lists them; LT_ERROR_INVALID_ARGUMENT for a value out of range and
+ * LT_ERROR_UNSUPPORTED for an option no structure takes. */
+lt_status lt_structure_option(lt_structure_config *config, const char *option, const char *value);
 /* Every structure and build mode this library implements, in registry order, as pairs in
  * kinds[i], modes[i] (up to max of them); returns how many there are. Tests and benchmarks
  * that try everything take their list from here. */

@@ -203,6 +203,11 @@ lt_status lt__ondemand_launch(lt__ondemand *od, const lt_ray *rays, int count, i
   return status;
 }
 
+int lt__ondemand_heap_full(lt__ondemand *od) {
+  int used, exhausted;
+  return lt__heap_used(od->ctx, &od->node_heap, &used, &exhausted) == LT_OK && exhausted;
+}
+
 lt_status lt__ondemand_nodes_built(lt__ondemand *od, double *nodes) {
   int used, exhausted;
   lt_status status = lt__heap_used(od->ctx, &od->node_heap, &used, &exhausted);

@@ -32,6 +32,8 @@ void lt__ondemand_release(lt__ondemand *od);
  * launch's pool and traversal counters to stats. */
 lt_status lt__ondemand_launch(lt__ondemand *od, const lt_ray *rays, int count, int flags, lt_hit *hits,
                               int speculate, lt_stats *stats);
+/* Whether a launch ran out of nodes (the retry then needs a larger node heap, not a pool). */
+int lt__ondemand_heap_full(lt__ondemand *od);
 /* Nodes built so far, counting leaves (the super-root is not counted). */
 lt_status lt__ondemand_nodes_built(lt__ondemand *od, double *nodes);
 /* Copies the node array and references (for tests that compare trees); the caller frees. */

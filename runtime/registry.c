@@ -2,6 +2,9 @@
  * names planned for later, and the public functions that read the table. */
 #include "runtime/registry.h"
 
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "runtime/error.h"
@@ -68,8 +71,41 @@ const char *lt_structure_summary(lt_structure_kind kind) {
 }
 
 const char *lt_structure_parameters(lt_structure_kind kind) {
+  static char text[LT_STRUCTURE_COUNT][512];
   const lt__structure_class *c = lt__structure_class_of(kind);
-  return c ? c->parameters : "";
+  if (!c) return "";
+  char *out = text[kind];
+  size_t used = 0;
+  out[0] = '\0';
+  for (const lt__param *p = c->params; p && p->option; p++) {
+    const char *field = (const char *)&c->defaults + p->offset;
+    double value = p->is_float ? (double)*(const float *)field : (double)*(const int *)field;
+    int n = snprintf(out + used, sizeof text[0] - used, "%s%s %s: %s (default %g)", used ? "\n" : "", p->option,
+                     p->is_float ? "X" : "N", p->help, value);
+    if (n < 0 || (size_t)n >= sizeof text[0] - used) break;
+    used += (size_t)n;
+  }
+  return out;
+}
+
+lt_status lt_structure_option(lt_structure_config *config, const char *option, const char *value) {
+  if (!config || !option || !value) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_structure_option: NULL argument");
+  for (int k = 0; k < LT_STRUCTURE_COUNT; k++)
+    for (const lt__param *p = classes[k]->params; p && p->option; p++) {
+      if (strcmp(option, p->option) != 0) continue;
+      char *end;
+      errno = 0;
+      double v = strtod(value, &end);
+      int whole = v == (double)(long long)v;
+      if (errno || end == value || *end || !(v >= p->min && v <= p->max) || (!p->is_float && !whole))
+        return lt__fail(LT_ERROR_INVALID_ARGUMENT, "%s '%s': expected %s from %g to %g", option, value,
+                        p->is_float ? "a number" : "a whole number", p->min, p->max);
+      char *field = (char *)config + p->offset;
+      if (p->is_float) *(float *)field = (float)v;
+      else *(int *)field = (int)v;
+      return LT_OK;
+    }
+  return lt__fail(LT_ERROR_UNSUPPORTED, "no structure takes %s", option);
 }
 
 unsigned lt_structure_modes(lt_structure_kind kind) {

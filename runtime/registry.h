@@ -6,12 +6,27 @@
 #ifndef LT_REGISTRY_H
 #define LT_REGISTRY_H
 
+#include <stddef.h>
+
 #include "runtime/structure_internal.h"
+
+/* A parameter a structure reads: its command-line option, the lt_structure_config field it
+ * sets, the accepted range, and a few words for help (the default is in the entry's defaults). */
+typedef struct lt__param {
+  const char *option; /* "--leaf-size" */
+  size_t offset;      /* of an int or float field of lt_structure_config */
+  int is_float;
+  double min, max;
+  const char *help;
+} lt__param;
+
+#define LT__PARAM_INT(opt, field, lo, hi, text) {opt, offsetof(lt_structure_config, field), 0, lo, hi, text}
+#define LT__PARAM_FLOAT(opt, field, lo, hi, text) {opt, offsetof(lt_structure_config, field), 1, lo, hi, text}
 
 typedef struct lt__structure_class {
   const char *name;       /* what --structure takes */
   const char *summary;    /* one line for help */
-  const char *parameters; /* the options it reads, with their defaults, for help */
+  const lt__param *params; /* the options it reads, ended by an entry without an option */
   unsigned modes;         /* the build modes it can be built in: bits 1 << lt_build_mode */
   lt_structure_config defaults; /* every field filled in (kind and build included) */
   size_t state_size;      /* bytes of its own state, zeroed, at lt_structure.state */

@@ -1,5 +1,6 @@
 /* The registry entry of the SAH BVH built through the task pool (runtime/bvh_ondemand_host.c,
  * kernels/bvh_ondemand.h): fully, or on demand while the rays are traced. */
+#include <stdint.h>
 #include <stdlib.h>
 
 #include "runtime/bvh_ondemand_host.h"
@@ -13,6 +14,8 @@ typedef struct bvh_state {
   lt__ondemand od;
   int live;          /* od holds a tree */
   int pool_capacity; /* doubled when the pool fills up */
+  int node_capacity; /* doubled when the node heap fills up (a binary tree of n leaves has
+                        fewer than n + 2 nodes with the super-root, so it never has so far) */
 } bvh_state;
 
 /* The largest pool a retry may ask for. */
@@ -36,20 +39,24 @@ static lt_status start(lt_structure *s, lt_stats *stats) {
    * the kernel warm-up inside it is compile time and is taken out. */
   double begin = lt_now_ms(), compile = s->ctx->compile_ms;
   int pool_mode = (int)mode_of(s) - LT_BUILD_FULL; /* LT_POOL_FULL, _REQUESTED, _SPECULATIVE */
-  lt_status status = lt__ondemand_create(s->ctx, s->scene, &b->sah, pool_mode, b->pool_capacity,
-                                         (int)lt_scene_triangle_count(s->scene) + 2, &b->od);
+  lt_status status = lt__ondemand_create(s->ctx, s->scene, &b->sah, pool_mode, b->pool_capacity, b->node_capacity,
+                                         &b->od);
   if (!status) b->live = 1;
   if (!status && mode_of(s) == LT_BUILD_FULL) status = lt__ondemand_launch(&b->od, NULL, 0, 0, NULL, 0, stats);
   lt__stats_add(stats, LT_STAT_BUILD_MS, lt_now_ms() - begin - (s->ctx->compile_ms - compile));
   return status;
 }
 
-/* Starts again from scratch with a pool twice as large, while the pool fills up. */
+/* Starts again from scratch with twice the room, while the pool or the node heap fills up. */
 static lt_status with_retry(lt_structure *s, lt_stats *stats, lt_status status) {
   bvh_state *b = s->state;
-  while (status == LT_ERROR_CAPACITY && b->pool_capacity < MAX_POOL) {
-    if (!s->ctx->quiet) fprintf(stderr, "lazytrace: %s; retrying with a pool of %d tasks\n", lt_last_error(), 2 * b->pool_capacity);
-    b->pool_capacity *= 2;
+  while (status == LT_ERROR_CAPACITY && b->pool_capacity < MAX_POOL && b->node_capacity < INT32_MAX / 2) {
+    int heap_full = b->live && lt__ondemand_heap_full(&b->od);
+    if (!s->ctx->quiet)
+      fprintf(stderr, "lazytrace: %s; retrying with %s of %d\n", lt_last_error(), heap_full ? "a node heap" : "a pool",
+              heap_full ? 2 * b->node_capacity : 2 * b->pool_capacity);
+    if (heap_full) b->node_capacity *= 2;
+    else b->pool_capacity *= 2;
     status = start(s, stats);
   }
   return status;
@@ -62,6 +69,7 @@ static lt_status create(lt_structure *s, lt_stats *stats) {
   b->sah = lt__structure_sah(&s->config);
   b->pool_capacity = s->config.pool_capacity > 0 ? s->config.pool_capacity
                                                  : initial_pool_capacity(lt_scene_triangle_count(s->scene));
+  b->node_capacity = (int)lt_scene_triangle_count(s->scene) + 2;
   return with_retry(s, stats, start(s, stats));
 }
 
@@ -73,7 +81,7 @@ static lt_status trace(lt_structure *s, const lt_ray *rays, int count, int flags
   int speculate = mode_of(s) == LT_BUILD_SPECULATIVE;
   double begin = lt_now_ms();
   lt_status status = lt__ondemand_launch(&b->od, rays, count, flags, hits, speculate, stats);
-  while (status == LT_ERROR_CAPACITY && b->pool_capacity < MAX_POOL) {
+  while (status == LT_ERROR_CAPACITY && b->pool_capacity < MAX_POOL && b->node_capacity < INT32_MAX / 2) {
     status = with_retry(s, stats, status);
     begin = lt_now_ms();
     if (!status) status = lt__ondemand_launch(&b->od, rays, count, flags, hits, speculate, stats);
@@ -122,10 +130,16 @@ lt__ondemand *lt__structure_ondemand(lt_structure *s) {
 
 static const char *const kernels[] = {"lt_bvh_ondemand", NULL};
 
+static const lt__param params[] = {
+    LT__PARAM_INT("--leaf-size", max_leaf_size, 1, 1 << 24, "most triangles a leaf holds without SAH asking"),
+    LT__PARAM_INT("--bins", sah_bins, 2, LT_MAX_BINS, "SAH bins per axis"),
+    {0, 0, 0, 0, 0, 0},
+};
+
 const lt__structure_class lt__structure_bvh = {
     .name = "bvh",
     .summary = "binned SAH BVH (Vinkler et al. 2016), built through the task pool in full or on demand",
-    .parameters = "--leaf-size N (16)  --bins N (32, at most 32)",
+    .params = params,
     .modes = 1u << LT_BUILD_FULL | 1u << LT_BUILD_REQUESTED | 1u << LT_BUILD_SPECULATIVE,
     .defaults = {.kind = LT_STRUCTURE_BVH, .build = LT_BUILD_SPECULATIVE, .max_leaf_size = 16, .sah_bins = 32,
                  .traversal_cost = 1.0f, .pool_capacity = 0, .intersect = LT_INTERSECT_WATERTIGHT, .grid_density = 3.0f},

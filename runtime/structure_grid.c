@@ -97,10 +97,16 @@ static void release(lt_structure *s) {
 
 static const char *const kernels[] = {"lt_grid_trace", NULL};
 
+static const lt__param params[] = {
+    LT__PARAM_FLOAT("--grid-density", grid_density, 0.001, 1000,
+                    "cells along the longest axis per cube root of the triangle count"),
+    {0, 0, 0, 0, 0, 0},
+};
+
 const lt__structure_class lt__structure_grid = {
     .name = "grid",
     .summary = "uniform grid (Thrane and Simonsen 2005) with a 3D-DDA, built on the host",
-    .parameters = "--grid-density X (3: cells along the longest axis per cube root of the triangles)",
+    .params = params,
     .modes = 1u << LT_BUILD_FULL,
     .defaults = {.kind = LT_STRUCTURE_GRID, .build = LT_BUILD_FULL, .max_leaf_size = 16, .sah_bins = 32,
                  .traversal_cost = 1.0f, .pool_capacity = 0, .intersect = LT_INTERSECT_WATERTIGHT, .grid_density = 3.0f},

@@ -109,10 +109,16 @@ lt_status lt__structure_from_bvh(lt_context *ctx, const lt_scene *scene, lt__bvh
 
 static const char *const kernels[] = {"lt_bvh_trace", NULL};
 
+static const lt__param params[] = {
+    LT__PARAM_INT("--leaf-size", max_leaf_size, 1, 1 << 24, "most triangles a leaf holds without SAH asking"),
+    LT__PARAM_INT("--bins", sah_bins, 2, LT_MAX_BINS, "SAH bins per axis of the top levels"),
+    {0, 0, 0, 0, 0, 0},
+};
+
 const lt__structure_class lt__structure_lbvh = {
     .name = "lbvh",
     .summary = "LBVH (Karras 2012) with an SAH top, built on the host: the fast-build baseline",
-    .parameters = "--leaf-size N (16)  --bins N (32, for the SAH top)",
+    .params = params,
     .modes = 1u << LT_BUILD_FULL,
     .defaults = {.kind = LT_STRUCTURE_LBVH, .build = LT_BUILD_FULL, .max_leaf_size = 16, .sah_bins = 32,
                  .traversal_cost = 1.0f, .pool_capacity = 0, .intersect = LT_INTERSECT_WATERTIGHT, .grid_density = 3.0f},
