@@ -35,6 +35,9 @@ typedef int32_t lt_vi4 __attribute__((vector_size(16)));
 #define lt_v4_make(a, b, c, d) ((lt_v4){(a), (b), (c), (d)})
 #define lt_v4_splat(a) ((lt_v4){(a), (a), (a), (a)})
 #define lt_v4_to_int(v) __builtin_convertvector((v), lt_vi4) /* toward zero, like (int) */
+/* Unroll the next loop twice (loops over a node's two children, where the arrays indexed by
+ * the side should become registers). */
+#define LT_UNROLL_2 _Pragma("GCC unroll 2")
 /* A hint that *p is read soon (the builders gather primitive boxes through the index). */
 #define lt_prefetch(p) __builtin_prefetch(p)
 #if defined(__SSE__)

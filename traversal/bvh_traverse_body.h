@@ -92,6 +92,9 @@ LT_DEVICE int LT_BVH_TRAVERSE_NAME(const lt_bvh_view *v, lt_bvh_ray *q, int flag
     lt_i32 next[2];
     float t_entry[2];
     int go[2];
+#if !LT_BVH_TRAVERSE_ONDEMAND
+    LT_UNROLL_2
+#endif
     for (int side = 0; side < 2; side++) {
       lt_i32 link, count;
 #if LT_BVH_TRAVERSE_ONDEMAND
