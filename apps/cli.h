@@ -28,7 +28,9 @@ int lt_cli_parse(lt_cli *cli, int argc, char **argv);
 int lt_cli_fail(const char *what, lt_status status);
 /* The context, scene and structure every tracing command starts from; prints errors. */
 int lt_cli_open(lt_cli *cli, lt_context **ctx, lt_scene **scene, lt_stats *stats);
-/* Writes stats to cli->stats ("-" for stdout) if it was asked for. */
+/* Refuses an output path that names an input file or another output; prints why. */
+int lt_cli_check_outputs(const lt_cli *cli);
+/* Writes stats to cli->stats ("-" for stdout) if it was asked for, whole or not at all. */
 int lt_cli_write_stats(const lt_cli *cli, const lt_stats *stats);
 
 int lt_cmd_render(lt_cli *cli);

@@ -9,11 +9,17 @@
 #include "apps/cli.h"
 
 int lt_cmd_collide(lt_cli *cli) {
-  lt_stats *stats, *frame_stats;
+  lt_stats *stats = NULL, *frame_stats = NULL;
   lt_context *ctx;
   lt_scene *scene;
-  if (lt_stats_create(&stats) || lt_stats_create(&frame_stats)) return lt_cli_fail("statistics", LT_ERROR_OUT_OF_MEMORY);
-  if (lt_cli_open(cli, &ctx, &scene, stats)) return 1;
+  if (lt_stats_create(&stats) || lt_stats_create(&frame_stats)) {
+    lt_stats_destroy(stats);
+    return lt_cli_fail("statistics", LT_ERROR_OUT_OF_MEMORY);
+  }
+  if (lt_cli_open(cli, &ctx, &scene, stats)) {
+    lt_stats_destroy(stats), lt_stats_destroy(frame_stats);
+    return 1;
+  }
   size_t n = (size_t)cli->agents * cli->rays_per_agent;
   float *paths = malloc(6 * sizeof(float) * cli->agents);
   lt_ray *rays = malloc(n * sizeof *rays);

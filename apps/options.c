@@ -102,6 +102,7 @@ int lt_cli_parse(lt_cli *cli, int argc, char **argv) {
       return fprintf(stderr, "lazytrace: unexpected argument '%s' (one SCENE only)\n", arg), 1;
     }
   }
+  if (lt_cli_check_outputs(cli)) return 1;
   /* Without --build, the structure's own default mode (speculative, or full where there is no
    * on-demand form), said by name in messages and statistics. */
   if (!cli->build_given) cli->structure.build = lt_structure_config_default(cli->structure.kind).build;
@@ -124,6 +125,12 @@ int lt_cli_open(lt_cli *cli, lt_context **ctx, lt_scene **scene, lt_stats *stats
   fprintf(stderr, "lazytrace: %s: %zu triangles loaded in %.0f ms", cli->scene, lt_scene_triangle_count(*scene), load_ms);
   if (skipped) fprintf(stderr, " (%zu skipped: NaN or infinite coordinates)", skipped);
   fputc('\n', stderr);
+  size_t unservable = lt_scene_unservable_triangles(*scene);
+  if (unservable)
+    fprintf(stderr,
+            "lazytrace: warning: %zu triangles have coordinates beyond 1e12 or sizes below 1e-12, where float "
+            "arithmetic cannot serve them (the intersection's products overflow or vanish): rays may miss them\n",
+            unservable);
 
   status = lt_context_create(&cli->context, ctx);
   if (status) {
@@ -135,9 +142,35 @@ int lt_cli_open(lt_cli *cli, lt_context **ctx, lt_scene **scene, lt_stats *stats
 
 int lt_cli_write_stats(const lt_cli *cli, const lt_stats *stats) {
   if (!cli->stats) return 0;
-  FILE *f = strcmp(cli->stats, "-") == 0 ? stdout : fopen(cli->stats, "w");
-  if (!f) return fprintf(stderr, "lazytrace: %s: cannot open for writing: %s\n", cli->stats, strerror(errno)), 1;
+  if (strcmp(cli->stats, "-") == 0) {
+    lt_status status = lt_stats_write_json(stats, stdout);
+    if (!status && fflush(stdout) != 0) status = LT_ERROR_IO;
+    return status ? lt_cli_fail("writing statistics", status) : 0;
+  }
+
+  /* In memory first, then written whole or not at all. */
+  char *text = NULL;
+  size_t bytes = 0;
+  FILE *f = open_memstream(&text, &bytes);
+  if (!f) return lt_cli_fail("writing statistics", LT_ERROR_OUT_OF_MEMORY);
   lt_status status = lt_stats_write_json(stats, f);
-  if (f != stdout && fclose(f) != 0) status = LT_ERROR_IO;
+  if (fclose(f) != 0 && !status) status = LT_ERROR_OUT_OF_MEMORY;
+  if (!status) status = lt_file_write(cli->stats, text, bytes);
+  free(text);
   return status ? lt_cli_fail("writing statistics", status) : 0;
+}
+
+int lt_cli_check_outputs(const lt_cli *cli) {
+  const char *inputs[] = {cli->scene, cli->rays};
+  const char *outputs[] = {cli->output, cli->hits, cli->stats};
+  for (int o = 0; o < 3; o++) {
+    if (!outputs[o] || strcmp(outputs[o], "-") == 0) continue;
+    for (int i = 0; i < 2; i++)
+      if (inputs[i] && lt_files_same(outputs[o], inputs[i]))
+        return fprintf(stderr, "lazytrace: %s is also an input (%s); refusing to overwrite it\n", outputs[o], inputs[i]), 1;
+    for (int p = 0; p < o; p++)
+      if (outputs[p] && strcmp(outputs[p], outputs[o]) == 0)
+        return fprintf(stderr, "lazytrace: %s is named for two outputs\n", outputs[o]), 1;
+  }
+  return 0;
 }

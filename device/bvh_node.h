@@ -70,30 +70,28 @@ LT_DEVICE void lt_bvh_child_box(const lt_bvh_node *n, int side, float lo[3], flo
   lo[2] = side ? z.z : z.x, hi[2] = side ? z.w : z.y;
 }
 
+/* Writes the box of child `side` (plain stores: a node's boxes never change once linked). */
+LT_DEVICE void lt_bvh_write_box(LT_GLOBAL lt_bvh_node *node, int side, const lt_box *x) {
+  if (side == 0) {
+    node->left_xy = lt_make_float4(x->lo[0], x->hi[0], x->lo[1], x->hi[1]);
+    node->lr_z.x = x->lo[2], node->lr_z.y = x->hi[2];
+  } else {
+    node->right_xy = lt_make_float4(x->lo[0], x->hi[0], x->lo[1], x->hi[1]);
+    node->lr_z.z = x->lo[2], node->lr_z.w = x->hi[2];
+  }
+}
+
 /* Writes child `side` of a node that no other work-item can see yet (a host builder's array,
  * or a node a task has just allocated): plain stores. */
 LT_DEVICE void lt_bvh_write_child(LT_GLOBAL lt_bvh_node *node, int side, const lt_box *x, lt_i32 link, lt_i32 count) {
-  if (side == 0) {
-    node->left_xy = lt_make_float4(x->lo[0], x->hi[0], x->lo[1], x->hi[1]);
-    node->lr_z.x = x->lo[2], node->lr_z.y = x->hi[2];
-  } else {
-    node->right_xy = lt_make_float4(x->lo[0], x->hi[0], x->lo[1], x->hi[1]);
-    node->lr_z.z = x->lo[2], node->lr_z.w = x->hi[2];
-  }
+  lt_bvh_write_box(node, side, x);
   node->link[side] = link, node->link[2 + side] = count;
 }
 
-/* The same for a node in a tree that traversal reads while it grows: the box with plain
- * stores, the count and then the link atomically (the node is published later, by the link
- * to it, behind a fence). */
+/* The same for a node in a tree that traversal reads while it grows: the count and then the
+ * link atomically (the node is published later, by the link to it, behind a fence). */
 LT_DEVICE void lt_bvh_set_child(LT_GLOBAL lt_bvh_node *node, int side, const lt_box *x, lt_i32 link, lt_i32 count) {
-  if (side == 0) {
-    node->left_xy = lt_make_float4(x->lo[0], x->hi[0], x->lo[1], x->hi[1]);
-    node->lr_z.x = x->lo[2], node->lr_z.y = x->hi[2];
-  } else {
-    node->right_xy = lt_make_float4(x->lo[0], x->hi[0], x->lo[1], x->hi[1]);
-    node->lr_z.z = x->lo[2], node->lr_z.w = x->hi[2];
-  }
+  lt_bvh_write_box(node, side, x);
   lt_atomic_store_i32(&node->link[2 + side], count);
   lt_atomic_store_i32(&node->link[side], link);
 }

@@ -38,6 +38,9 @@ typedef int32_t lt_vi4 __attribute__((vector_size(16)));
 /* Unroll the next loop twice (loops over a node's two children, where the arrays indexed by
  * the side should become registers). */
 #define LT_UNROLL_2 _Pragma("GCC unroll 2")
+/* Keep a function out of line (a leaf's triangle loop, called from two places of a loop that
+ * is unrolled, was slower inlined into both). */
+#define LT_DEVICE_OUTLINE static __attribute__((noinline, unused))
 /* A hint that *p is read soon (the builders gather primitive boxes through the index). */
 #define lt_prefetch(p) __builtin_prefetch(p)
 #if defined(__SSE__)

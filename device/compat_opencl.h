@@ -30,6 +30,7 @@ typedef int4 lt_vi4;
 #define lt_v4_to_int(v) convert_int4_rtz(v)
 #define lt_prefetch(p) prefetch((p), 1)
 #define LT_UNROLL_2 _Pragma("unroll 2") /* see compat_native.h */
+#define LT_DEVICE_OUTLINE LT_DEVICE /* PoCL inlines everything into the work-group function */
 /* a < b ? a : b and a > b ? a : b per lane, as the scalar code writes them. */
 LT_DEVICE float4 lt_v4_min(float4 a, float4 b) { return select(b, a, a < b); }
 LT_DEVICE float4 lt_v4_max(float4 a, float4 b) { return select(b, a, a > b); }

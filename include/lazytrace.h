@@ -70,6 +70,12 @@ lt_status lt_rays_read(const char *path, lt_ray **rays, size_t *count);
 lt_status lt_rays_write(const char *path, const lt_ray *rays, size_t count);
 lt_status lt_hits_read(const char *path, lt_hit **hits, size_t *count);
 lt_status lt_hits_write(const char *path, const lt_hit *hits, size_t count);
+/* Every file lazytrace writes is written whole or not at all: to a temporary file beside it,
+ * renamed over it once the write and the close succeeded, so a failure (a full disk) leaves an
+ * existing file as it was. lt_file_write does so for bytes (images, statistics). */
+lt_status lt_file_write(const char *path, const void *data, size_t bytes);
+/* Whether two paths name the same existing file (an output must not overwrite an input). */
+int lt_files_same(const char *a, const char *b);
 
 /* ---- Devices and contexts ---- */
 
@@ -122,6 +128,10 @@ size_t lt_scene_triangle_count(const lt_scene *scene);
 const float *lt_scene_triangles(const lt_scene *scene);
 /* Number of triangles dropped at load because a coordinate was NaN or infinite. */
 size_t lt_scene_skipped_triangles(const lt_scene *scene);
+/* Triangles where float arithmetic cannot serve rays: a coordinate beyond 1e12 or a size below
+ * 1e-12, where the intersection test's products overflow or vanish, so rays may miss them.
+ * The command line warns about them; they are kept, and answered as well as float allows. */
+size_t lt_scene_unservable_triangles(const lt_scene *scene);
 /* The camera named in the spec, or the scene's first ("outer"), or one framing the bounds. */
 lt_camera lt_scene_camera(const lt_scene *scene);
 /* Looks up a camera by name; LT_ERROR_INVALID_ARGUMENT if the scene has none of that name. */
@@ -235,7 +245,8 @@ const char *lt_intersect_kind_name(lt_intersect_kind kind);
 typedef struct lt_structure lt_structure;
 
 /* Builds (or, on demand, prepares) a structure over the scene's triangles on ctx's device.
- * Build time and node counts go to stats if it is not NULL. */
+ * Build time and node counts go to stats if it is not NULL. The structure keeps using both:
+ * the context and the scene must outlive it (destroy the structure first). */
 lt_status lt_structure_create(lt_context *ctx, const lt_scene *scene,
                               const lt_structure_config *config, lt_stats *stats,
                               lt_structure **out);

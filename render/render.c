@@ -13,6 +13,7 @@
 #include "scenes/splitmix.h"
 #include "runtime/error.h"
 #include "runtime/stats_internal.h"
+#include "runtime/structure_internal.h"
 
 #define DEFAULT_SIZE      1024
 #define DEFAULT_MAX_BATCH (2u << 20)
@@ -198,6 +199,8 @@ static lt_status collision(renderer *r) {
 lt_status lt_render(lt_structure *structure, const lt_scene *scene, const lt_render_config *config, float *rgb,
                     lt_stats *stats) {
   if (!scene || !rgb) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_render: NULL argument");
+  if (structure && structure->scene != scene)
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_render: the structure was built over another scene");
   renderer r = {structure, scene, {0}, stats, NULL, 0, rgb, 0, 0, 0, config ? config->seed : 0,
                 config ? config->progress : 0, lt_now_ms(), 0.0};
   lt_render_size(scene, config, &r.width, &r.height, &r.spp);

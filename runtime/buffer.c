@@ -6,8 +6,17 @@
 
 #include "runtime/error.h"
 
+int lt__buffer_fail_after = -1;
+
+/* Fault injection: whether this allocation is the one tests asked to fail. */
+static int injected_failure(void) {
+  if (lt__buffer_fail_after < 0) return 0;
+  return lt__buffer_fail_after-- == 0;
+}
+
 lt_status lt__buffer_create(lt_context *ctx, lt__buffer *buffer, size_t bytes, const void *init, int fill) {
   memset(buffer, 0, sizeof *buffer);
+  if (injected_failure()) return lt__fail(LT_ERROR_DEVICE_MEMORY, "a %zu-byte buffer could not be allocated (injected)", bytes);
   buffer->bytes = bytes < 16 ? 16 : (bytes + 15) / 16 * 16;
   if (ctx->kind == LT_DEVICE_NATIVE) {
     /* calloc leaves untouched pages unmapped: a big zeroed array costs only what is used. An
@@ -60,6 +69,7 @@ lt_status lt__buffer_read(lt_context *ctx, const lt__buffer *buffer, size_t offs
 
 lt_status lt__buffer_wrap(lt_context *ctx, lt__buffer *buffer, const void *host, size_t bytes) {
   memset(buffer, 0, sizeof *buffer);
+  if (injected_failure()) return lt__fail(LT_ERROR_DEVICE_MEMORY, "a %zu-byte buffer could not be allocated (injected)", bytes);
   buffer->bytes = bytes;
   if (ctx->kind == LT_DEVICE_NATIVE) {
     buffer->host = (void *)host;

@@ -30,4 +30,8 @@ lt_status lt__buffer_wrap(lt_context *ctx, lt__buffer *buffer, const void *host,
 void *lt__buffer_begin_write(lt_context *ctx, lt__buffer *buffer);
 lt_status lt__buffer_end_write(lt_context *ctx, lt__buffer *buffer, void *staging);
 
+/* Fault injection for tests: the buffer allocation this many allocations from now fails as an
+ * out-of-memory device would (0: the next one); -1 for none. */
+extern int lt__buffer_fail_after;
+
 #endif

@@ -7,6 +7,7 @@
 #include "runtime/error.h"
 #include "runtime/bvh_ondemand_host.h"
 #include "runtime/kernel_args_host.h"
+#include "runtime/persistent_launch.h"
 #include "runtime/stats_internal.h"
 
 /* Bin slabs: how many large nodes may bin at once; a node that finds none is split in one go
@@ -109,6 +110,7 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
     status = launch(od, &none, &none, 0, 0, 0, 1);
     lt__buffer_release(&none);
   }
+  if (!status) status = lt__pool_end_launch(&od->pool, NULL); /* a full pool, said as such */
   if (!status) status = read_counters(od, NULL);
   if (status) lt__ondemand_release(od);
   return status;
@@ -143,23 +145,10 @@ static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, in
   args.max_idle_polls = od->pool.config.max_idle_polls, args.speculate = speculate, args.prim_count = od->count;
   args.root_lo = (lt_float4){od->bounds.lo[0], od->bounds.lo[1], od->bounds.lo[2], 0.0f};
   args.root_hi = (lt_float4){od->bounds.hi[0], od->bounds.hi[1], od->bounds.hi[2], 0.0f};
-  /* The set-up launch has the shape of the others on OpenCL, because PoCL compiles the kernel
-   * for the shape of its first launch (counted as compile time); only group 0 works in it. */
-  int groups = setup && ctx->kind == LT_DEVICE_NATIVE ? 1 : ctx->work_groups;
-  if (ctx->kind == LT_DEVICE_NATIVE) {
-    lt_od_args view;
-    od_args_view(&args, &view);
-    lt__native_launch native = {&view, setup};
-    return lt__native_run(groups, lt__native_bvh_ondemand_kernel, &native);
-  }
-  lt__kernel *k;
-  lt_status status = lt__opencl_kernel(ctx, "lt_bvh_ondemand", &k);
-  if (status) return status;
-  cl_uint next;
-  cl_int err = od_args_set(k->kernel, &args, &next);
-  err |= clSetKernelArg(k->kernel, next, sizeof setup, &setup);
-  if ((status = lt__opencl_check(err, "setting on-demand kernel arguments"))) return status;
-  return lt__opencl_run(ctx, k, (size_t)groups, "running the on-demand kernel");
+  static const lt__persistent_kernel kernel = {"lt_bvh_ondemand", lt__native_bvh_ondemand_kernel, od_args_set_any,
+                                               od_args_view_any};
+  lt_od_args view;
+  return lt__persistent_launch(ctx, &kernel, &args, &view, setup);
 }
 
 /* Adds the launch's build and traversal counters, summed over the work-groups, to stats and

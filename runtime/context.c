@@ -12,6 +12,8 @@ lt_status lt_context_create(const lt_context_config *config, lt_context **out) {
   if (!config) config = &defaults;
   if (config->work_groups < 0 || config->local_size < 0)
     return lt__fail(LT_ERROR_INVALID_ARGUMENT, "work-groups and local size must be positive (0 for the default)");
+  if (config->work_groups > LT__MAX_NATIVE_GROUPS)
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT, "--work-groups %d: at most %d", config->work_groups, LT__MAX_NATIVE_GROUPS);
   if (config->local_size > LT_MAX_LOCAL_SIZE)
     return lt__fail(LT_ERROR_INVALID_ARGUMENT,
                     "--local-size %d exceeds %d, the widest work-group the persistent kernels hold in local memory",

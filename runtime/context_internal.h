@@ -51,8 +51,12 @@ int lt__opencl_device_count(void);
 char *lt__kernel_source(const char *path, uint64_t *hash);
 
 /* Native backend (runtime/native.c): runs fn(arg) on `groups` threads, each with its
- * lt_group_id() set, and waits for all. */
+ * lt_group_id() set, and waits for all. The threads start together: if one cannot be
+ * created, none runs fn and the launch fails. */
+#define LT__MAX_NATIVE_GROUPS 1024
 lt_status lt__native_run(int groups, void (*fn)(void *arg), void *arg);
+/* Tests set it to a work-group number whose thread then fails to start; -1 otherwise. */
+extern int lt__native_fail_group;
 int lt__native_threads(void);
 
 #endif

@@ -7,7 +7,7 @@
  * defines `name` (the struct: an lt__buffer * per BUF entry, the value per VAL entry),
  * `name##_set(kernel, args, &next)` (returns a cl_int; next gets the index after the list, for
  * an entry point's own last parameters; `name##_set_any` takes the args as a void pointer, for
- * generic launchers) and `name##_view(args, view)`. */
+ * generic launchers) and `name##_view(args, view)` (and `name##_view_any`). */
 #ifndef LT_KERNEL_ARGS_HOST_H
 #define LT_KERNEL_ARGS_HOST_H
 
@@ -42,6 +42,9 @@
   }                                                                                            \
   static inline cl_int name##_set_any(cl_kernel kernel, const void *args, cl_uint *next) {     \
     return name##_set(kernel, (const name *)args, next);                                       \
+  }                                                                                            \
+  static inline void name##_view_any(const void *args, void *view) {                           \
+    name##_view((const name *)args, (view_type *)view);                                        \
   }
 
 #endif

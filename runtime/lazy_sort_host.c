@@ -7,6 +7,7 @@
 #include "runtime/error.h"
 #include "runtime/heap_host.h"
 #include "runtime/kernel_args_host.h"
+#include "runtime/persistent_launch.h"
 #include "runtime/pool_host.h"
 #include "runtime/stats_internal.h"
 
@@ -32,23 +33,10 @@ static lt_status launch(lt_lazy_sort *s, lt__buffer *queries, lt__buffer *answer
   args.task_kind = 0; /* the kernel numbers its own task kinds */
   args.queries = queries, args.answers = answers;
   args.key_count = s->count, args.query_count = count, args.max_idle_polls = s->pool.config.max_idle_polls;
-  /* The set-up launch has the shape of the others on OpenCL, because PoCL compiles the kernel
-   * for the shape of its first launch (counted as compile time); only group 0 works in it. */
-  int groups = setup && ctx->kind == LT_DEVICE_NATIVE ? 1 : ctx->work_groups;
-  if (ctx->kind == LT_DEVICE_NATIVE) {
-    lt_sort_args view;
-    sort_args_view(&args, &view);
-    lt__native_launch native = {&view, setup};
-    return lt__native_run(groups, lt__native_lazy_sort_kernel, &native);
-  }
-  lt__kernel *k;
-  lt_status status = lt__opencl_kernel(ctx, "lt_lazy_sort", &k);
-  if (status) return status;
-  cl_uint next;
-  cl_int err = sort_args_set(k->kernel, &args, &next);
-  err |= clSetKernelArg(k->kernel, next, sizeof setup, &setup);
-  if ((status = lt__opencl_check(err, "setting lazy sort kernel arguments"))) return status;
-  return lt__opencl_run(ctx, k, (size_t)groups, "running the lazy sort kernel");
+  static const lt__persistent_kernel kernel = {"lt_lazy_sort", lt__native_lazy_sort_kernel, sort_args_set_any,
+                                               sort_args_view_any};
+  lt_sort_args view;
+  return lt__persistent_launch(ctx, &kernel, &args, &view, setup);
 }
 
 lt_status lt_lazy_sort_create(lt_context *ctx, const uint32_t *keys, size_t count, lt_build_mode mode,
@@ -82,6 +70,7 @@ lt_status lt_lazy_sort_create(lt_context *ctx, const uint32_t *keys, size_t coun
     status = launch(s, &none, &none, 0, 1);
     lt__buffer_release(&none);
   }
+  if (!status) status = lt__pool_end_launch(&s->pool, NULL); /* a full pool, said as such */
   if (status) {
     lt_lazy_sort_destroy(s);
     return status;

@@ -7,8 +7,20 @@
 #include "runtime/context_internal.h"
 #include "runtime/error.h"
 
+/* Fault injection for tests: the thread of this work-group fails to start (-1: none). */
+int lt__native_fail_group = -1;
+
 _Thread_local int lt__native_group_id;
 _Thread_local int lt__native_num_groups = 1;
+
+/* Work-groups start together: each thread waits at the gate until every one exists, so that
+ * when one cannot be created the others return without running a persistent kernel that
+ * would wait for it forever. */
+typedef struct gate {
+  pthread_mutex_t lock;
+  pthread_cond_t opened;
+  int state; /* 0 closed, 1 open (run), -1 open (return at once) */
+} gate;
 
 typedef struct worker {
   pthread_t thread;
@@ -16,10 +28,27 @@ typedef struct worker {
   int groups;
   void (*fn)(void *arg);
   void *arg;
+  gate *gate;
 } worker;
+
+static int pass_gate(gate *g) {
+  pthread_mutex_lock(&g->lock);
+  while (g->state == 0) pthread_cond_wait(&g->opened, &g->lock);
+  int state = g->state;
+  pthread_mutex_unlock(&g->lock);
+  return state;
+}
+
+static void open_gate(gate *g, int state) {
+  pthread_mutex_lock(&g->lock);
+  g->state = state;
+  pthread_cond_broadcast(&g->opened);
+  pthread_mutex_unlock(&g->lock);
+}
 
 static void *worker_main(void *p) {
   worker *w = p;
+  if (pass_gate(w->gate) < 0) return NULL;
   lt__native_group_id = w->group;
   lt__native_num_groups = w->groups;
   w->fn(w->arg);
@@ -32,21 +61,26 @@ int lt__native_threads(void) {
 }
 
 lt_status lt__native_run(int groups, void (*fn)(void *arg), void *arg) {
-  if (groups < 1) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "native launch of %d work-groups", groups);
+  if (groups < 1 || groups > LT__MAX_NATIVE_GROUPS)
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT, "native launch of %d work-groups (1 to %d)", groups, LT__MAX_NATIVE_GROUPS);
   worker *workers = calloc(groups, sizeof *workers);
   if (!workers) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for %d native work-groups", groups);
+  gate g = {PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER, 0};
 
-  /* Work-group 0 runs on the calling thread; the others get one thread each. */
+  /* Work-group 0 runs on the calling thread; the others get one thread each, and all start
+   * only once every thread exists. */
   int started = 1;
   lt_status status = LT_OK;
-  for (int g = 0; g < groups; g++) workers[g] = (worker){0, g, groups, fn, arg};
-  for (int g = 1; g < groups; g++, started++)
-    if (pthread_create(&workers[g].thread, NULL, worker_main, &workers[g]) != 0) {
-      status = lt__fail(LT_ERROR_OUT_OF_MEMORY, "could not start native work-group %d", g);
+  for (int gr = 0; gr < groups; gr++) workers[gr] = (worker){0, gr, groups, fn, arg, &g};
+  for (int gr = 1; gr < groups; gr++, started++)
+    if (gr == lt__native_fail_group || pthread_create(&workers[gr].thread, NULL, worker_main, &workers[gr]) != 0) {
+      status = lt__fail(LT_ERROR_OUT_OF_MEMORY, "could not start native work-group %d of %d (thread limit or memory)",
+                        gr, groups);
       break;
     }
+  open_gate(&g, status == LT_OK ? 1 : -1);
   if (status == LT_OK) worker_main(&workers[0]);
-  for (int g = 1; g < started; g++) pthread_join(workers[g].thread, NULL);
+  for (int gr = 1; gr < started; gr++) pthread_join(workers[gr].thread, NULL);
   free(workers);
   return status;
 }

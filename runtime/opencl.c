@@ -53,12 +53,20 @@ lt_status lt__opencl_open(lt_context *ctx, int index) {
   clGetDeviceInfo(ctx->device, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof units, &units, NULL);
   snprintf(ctx->name, sizeof ctx->name, "opencl:%d (%s)", index, device_name);
 
-  /* Persistent kernels launch only as many work-groups as run at once (DESIGN.md). */
+  /* Persistent kernels launch only as many work-groups as run at once (DESIGN.md): on a CPU
+   * device (PoCL) that is one per compute unit, and a work-group beyond them would wait for
+   * one that never starts. A GPU runs several per compute unit, as many as occupancy allows,
+   * which is not known here: more than 16 per unit is refused there. */
+  cl_device_type type = CL_DEVICE_TYPE_GPU;
+  clGetDeviceInfo(ctx->device, CL_DEVICE_TYPE, sizeof type, &type, NULL);
+  int most = (type & CL_DEVICE_TYPE_CPU) ? (int)units : 16 * (int)units;
+  if (ctx->work_groups > most)
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT,
+                    "--work-groups %d: %s runs at most %d work-groups at once, and the persistent kernels need "
+                    "every one of theirs running (it would hang)", ctx->work_groups, ctx->name, most);
   if (ctx->work_groups <= 0) ctx->work_groups = (int)units;
   /* On a CPU a work-group's work-items run as a loop, and the persistent kernels measured
    * fastest with one work-item (docs/results/pool_scheduler.md); GPUs want wide groups. */
-  cl_device_type type = CL_DEVICE_TYPE_GPU;
-  clGetDeviceInfo(ctx->device, CL_DEVICE_TYPE, sizeof type, &type, NULL);
   if (ctx->local_size <= 0) ctx->local_size = (type & CL_DEVICE_TYPE_CPU) ? 1 : 64;
 
   cl_int err;

@@ -1,9 +1,13 @@
-/* The ray and hit files of the contract: little-endian records of 32 and 16 bytes. */
+/* The ray and hit files of the contract: little-endian records of 32 and 16 bytes; and whole
+ * output files for the command line. */
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include <sys/stat.h>
+
 #include "runtime/error.h"
+#include "runtime/output_file.h"
 
 _Static_assert(sizeof(lt_ray) == 32, "a ray record is 32 bytes");
 _Static_assert(sizeof(lt_hit) == 16, "a hit record is 16 bytes");
@@ -39,12 +43,28 @@ static lt_status read_records(const char *path, size_t record, void **out, size_
   return LT_OK;
 }
 
+/* Written whole or not at all (runtime/output_file.h). */
 static lt_status write_records(const char *path, const void *data, size_t record, size_t count) {
-  FILE *f = fopen(path, "wb");
-  if (!f) return lt__fail(LT_ERROR_IO, "%s: cannot open for writing: %s", path, strerror(errno));
-  size_t put = fwrite(data, record, count, f);
-  int failed = fclose(f) != 0 || put != count;
-  return failed ? lt__fail(LT_ERROR_IO, "%s: write failed", path) : LT_OK;
+  lt__output out;
+  lt_status status = lt__output_open(&out, path);
+  if (status) return status;
+  if (count && fwrite(data, record, count, out.file) != count) {
+    int err = errno;
+    lt__output_abort(&out);
+    return lt__fail(LT_ERROR_IO, "%s: could not write: %s (the file is left as it was)", path, strerror(err));
+  }
+  return lt__output_commit(&out);
+}
+
+lt_status lt_file_write(const char *path, const void *data, size_t bytes) {
+  if (!path || (bytes && !data)) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_file_write: NULL argument");
+  return write_records(path, data, 1, bytes);
+}
+
+int lt_files_same(const char *a, const char *b) {
+  struct stat sa, sb;
+  if (!a || !b || stat(a, &sa) != 0 || stat(b, &sb) != 0) return 0;
+  return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
 lt_status lt_rays_read(const char *path, lt_ray **rays, size_t *count) {

@@ -1,5 +1,6 @@
 /* Structures, whatever their kind: arguments checked, defaults filled in from the registry,
  * then the registry entry builds, traces, reports and releases (runtime/registry.h). */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -10,6 +11,8 @@
 #include "traversal/ray.h"
 
 static const char *const intersect_names[] = {"watertight", "fast"};
+
+int lt__structure_tiny_capacities;
 
 const char *lt_intersect_kind_name(lt_intersect_kind kind) {
   return kind <= LT_INTERSECT_FAST ? intersect_names[kind] : "unknown";
@@ -86,6 +89,14 @@ lt_status lt_structure_create(lt_context *ctx, const lt_scene *scene, const lt_s
     return lt__fail(LT_ERROR_UNSUPPORTED, "the %s is %s, not %s (--build %s)", cls->name,
                     cls->modes == 1u << LT_BUILD_FULL ? "built in full only" : "not built that way",
                     lt_build_mode_name(config->build), lt_build_mode_name(config->build));
+  if (config->max_leaf_size < 0 || config->sah_bins < 0 || config->pool_capacity < 0 ||
+      !(config->traversal_cost >= 0.0f && config->traversal_cost < INFINITY) ||
+      !(config->grid_density >= 0.0f && config->grid_density < INFINITY))
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT,
+                    "bad structure config (leaf size %d, bins %d, pool %d, traversal cost %g, grid density %g): "
+                    "each must be 0 for the default or a positive finite value",
+                    config->max_leaf_size, config->sah_bins, config->pool_capacity, (double)config->traversal_cost,
+                    (double)config->grid_density);
   if (lt_scene_triangle_count(scene) == 0) return lt__fail(LT_ERROR_EMPTY_SCENE, "the scene has no triangles");
 
   lt_structure *s;

@@ -69,7 +69,8 @@ static lt_status create(lt_structure *s, lt_stats *stats) {
   b->sah = lt__structure_sah(&s->config);
   b->pool_capacity = s->config.pool_capacity > 0 ? s->config.pool_capacity
                                                  : initial_pool_capacity(lt_scene_triangle_count(s->scene));
-  b->node_capacity = (int)lt_scene_triangle_count(s->scene) + 2;
+  b->node_capacity = lt__structure_tiny_capacities ? 4 : (int)lt_scene_triangle_count(s->scene) + 2;
+  if (lt__structure_tiny_capacities && s->config.pool_capacity <= 0) b->pool_capacity = 4;
   return with_retry(s, stats, start(s, stats));
 }
 

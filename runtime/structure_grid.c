@@ -50,26 +50,11 @@ static lt_status create(lt_structure *s, lt_stats *stats) {
 
 static lt_status trace(lt_structure *s, const lt_ray *rays, int count, int flags, lt_hit *hits, lt_stats *stats) {
   grid_state *g = s->state;
-  lt_context *ctx = s->ctx;
-  /* The kernel's first launch is compile time (lt__opencl_run), taken out of the trace time. */
-  double start = lt_now_ms(), compile = ctx->compile_ms;
-  lt__trace_batch batch;
-  lt_status status = lt__trace_batch_begin(ctx, &batch, rays, count, hits);
-  trace_args args = {&batch.rays, &batch.hits, count, flags, &g->header, &g->cells, &g->refs, &g->verts};
-  if (!status && ctx->kind == LT_DEVICE_NATIVE) {
-    lt_grid_trace_view view;
-    trace_args_view(&args, &view);
-    status = lt__trace_native(ctx, lt__native_grid_trace_kernel, &view, &batch);
-  } else if (!status) {
-    status = lt__trace_opencl(ctx, "lt_grid_trace", trace_args_set_any, &args, &args.ray_count, &batch);
-  }
-  status = lt__trace_batch_end(ctx, &batch, hits, status);
-  if (!status) {
-    lt__stats_add(stats, LT_STAT_TRACE_MS, lt_now_ms() - start - (ctx->compile_ms - compile));
-    lt__stats_add(stats, LT_STAT_TRAVERSAL_STEPS, (double)batch.traversal_steps);
-    lt__stats_add(stats, LT_STAT_INTERSECTIONS, (double)batch.intersections);
-  }
-  return status;
+  trace_args args = {NULL, NULL, 0, 0, &g->header, &g->cells, &g->refs, &g->verts};
+  lt_grid_trace_view view;
+  lt__trace_call call = {"lt_grid_trace", lt__native_grid_trace_kernel, trace_args_set_any, trace_args_view_any, &args, &args.rays,
+                         &args.hits, &args.ray_count, &args.flags, &view};
+  return lt__trace_finished(s->ctx, &call, rays, count, flags, hits, stats);
 }
 
 /* A grid's nodes are its cells; its references are the cells' triangle numbers. */

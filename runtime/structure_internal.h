@@ -33,6 +33,9 @@ lt_status lt__structure_from_bvh(lt_context *ctx, const lt_scene *scene, lt__bvh
  * another way, such as lt__structure_from_bvh). */
 lt_status lt__structure_wrap(lt_context *ctx, const lt_scene *scene, const lt_structure_config *config,
                              lt_structure **out);
+/* Fault injection for tests: structures start with the smallest pools, heaps and reference
+ * arrays they can have, so that every overflow-and-retry path runs. */
+extern int lt__structure_tiny_capacities;
 /* The SAH parameters of a BVH structure's config. */
 lt__sah_config lt__structure_sah(const lt_structure_config *config);
 

@@ -6,6 +6,7 @@
 
 #include "kernels/trace_kernel.h"
 #include "runtime/error.h"
+#include "runtime/stats_internal.h"
 
 lt_status lt__trace_batch_begin(lt_context *ctx, lt__trace_batch *batch, const lt_ray *rays, int count, lt_hit *hits) {
   memset(batch, 0, sizeof *batch);
@@ -87,4 +88,26 @@ lt_status lt__trace_native(lt_context *ctx, void (*fn)(void *), const void *view
   lt_status status = lt__native_run(ctx->work_groups, fn, &launch);
   batch->traversal_steps += launch.traversal_steps, batch->intersections += launch.intersections;
   return !status && launch.error ? overflow() : status;
+}
+
+lt_status lt__trace_finished(lt_context *ctx, const lt__trace_call *call, const lt_ray *rays, int count, int flags,
+                             lt_hit *hits, lt_stats *stats) {
+  /* The kernel's first launch is compile time (lt__opencl_run), taken out of the trace time. */
+  double start = lt_now_ms(), compile = ctx->compile_ms;
+  lt__trace_batch batch;
+  lt_status status = lt__trace_batch_begin(ctx, &batch, rays, count, hits);
+  *call->rays = &batch.rays, *call->hits = &batch.hits, *call->ray_count = count, *call->flags = flags;
+  if (!status && ctx->kind == LT_DEVICE_NATIVE) {
+    call->view(call->args, call->view_storage);
+    status = lt__trace_native(ctx, call->native, call->view_storage, &batch);
+  } else if (!status) {
+    status = lt__trace_opencl(ctx, call->entry, call->set_args, call->args, call->ray_count, &batch);
+  }
+  status = lt__trace_batch_end(ctx, &batch, hits, status);
+  if (!status) {
+    lt__stats_add(stats, LT_STAT_TRACE_MS, lt_now_ms() - start - (ctx->compile_ms - compile));
+    lt__stats_add(stats, LT_STAT_TRAVERSAL_STEPS, (double)batch.traversal_steps);
+    lt__stats_add(stats, LT_STAT_INTERSECTIONS, (double)batch.intersections);
+  }
+  return status;
 }

@@ -30,4 +30,24 @@ lt_status lt__trace_opencl(lt_context *ctx, const char *entry, lt__set_args_fn s
 /* Native: runs fn (an lt__native_trace_launch over `view`) on every work-group. */
 lt_status lt__trace_native(lt_context *ctx, void (*fn)(void *), const void *view, lt__trace_batch *batch);
 
+/* Everything a finished structure's trace needs from it: its trace kernel (the OpenCL entry,
+ * the native twin, and the generated argument functions of runtime/kernel_args_host.h), its
+ * host arguments with the structure's own entries filled in, where the batch's entries are in
+ * them, and room for the native view. */
+typedef struct lt__trace_call {
+  const char *entry;
+  void (*native)(void *launch);
+  lt__set_args_fn set_args;
+  void (*view)(const void *args, void *view);
+  void *args;
+  lt__buffer **rays, **hits; /* the batch's entries in args (LT_TRACE_BATCH_ARGS) */
+  lt_i32 *ray_count, *flags;
+  void *view_storage;
+} lt__trace_call;
+
+/* Traces a batch through a finished structure on ctx's backend; adds trace_ms (compile time
+ * taken out), traversal steps and intersections to stats (may be NULL). */
+lt_status lt__trace_finished(lt_context *ctx, const lt__trace_call *call, const lt_ray *rays, int count, int flags,
+                             lt_hit *hits, lt_stats *stats);
+
 #endif

@@ -4,7 +4,7 @@
  * the footprint is x in [-5, 5] by z in [-4, 4] and the front faces -z. */
 #include <math.h>
 
-#include "../runtime/error.h"
+#include "runtime/error.h"
 #include "gen_geometry.h"
 
 #define HALF_X    5.0f

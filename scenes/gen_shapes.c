@@ -3,7 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "../runtime/error.h"
+#include "runtime/error.h"
 #include "gen_geometry.h"
 
 /* ---- sphere:LEVEL ---- */

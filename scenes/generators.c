@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "../runtime/error.h"
+#include "runtime/error.h"
 #include "gen_geometry.h"
 
 #define SPEC_SIZE 128

@@ -9,14 +9,20 @@
 #include <errno.h>
 #include <stdio.h>
 #include <string.h>
+#include <strings.h>
 
-#include "../runtime/error.h"
+#include "runtime/error.h"
 
 /* Triangulate splits polygons; PreTransformVertices bakes the node transforms into the vertices,
  * so a mesh placed by the node graph lands where the file puts it. Steps that reorder or merge
  * vertices and faces (JoinIdenticalVertices, SortByPType, ...) are left out, so the order stays
  * the file's as far as assimp allows. */
-#define IMPORT_FLAGS (aiProcess_Triangulate | aiProcess_PreTransformVertices)
+/* ValidateDataStructure runs first and turns a malformed file (a truncated binary PLY: a face
+ * indexing vertices that were never read) into an import error, where the steps after it
+ * would read out of bounds and crash. Polygons are fanned here, (v0, vi, vi+1) as for OBJ,
+ * rather than by assimp's Triangulate step, which aborts the process on some malformed
+ * faces (an assertion, found by fuzzing PLY input). */
+#define IMPORT_FLAGS (aiProcess_ValidateDataStructure | aiProcess_PreTransformVertices)
 
 static void copy_vertex(const struct aiVector3D *v, float out[3]) {
   out[0] = (float)v->x;
@@ -24,24 +30,85 @@ static void copy_vertex(const struct aiVector3D *v, float out[3]) {
   out[2] = (float)v->z;
 }
 
-/* Appends a mesh's triangles; points and lines that the file mixes in are skipped. */
+/* Appends a mesh's triangles, polygons fanned from their first vertex; points and lines that
+ * the file mixes in are skipped. */
 static lt_status add_mesh(const char *path, unsigned mesh_index, const struct aiMesh *mesh, lt_scene *scene) {
   for (unsigned i = 0; i < mesh->mNumFaces; i++) {
     const struct aiFace *face = &mesh->mFaces[i];
-    if (face->mNumIndices != 3) continue;
+    if (face->mNumIndices < 3 || !face->mIndices) continue;
 
     /* Importers are not all careful with indices; a bad one must not read past the vertices. */
-    float p[3][3];
-    for (int k = 0; k < 3; k++) {
-      unsigned index = face->mIndices[k];
-      if (index >= mesh->mNumVertices)
+    for (unsigned k = 0; k < face->mNumIndices; k++)
+      if (face->mIndices[k] >= mesh->mNumVertices)
         return lt__fail(LT_ERROR_PARSE, "%s: mesh %u face %u: vertex index %u out of range (%u vertices)", path,
-                        mesh_index, i, index, mesh->mNumVertices);
-      copy_vertex(&mesh->mVertices[index], p[k]);
+                        mesh_index, i, face->mIndices[k], mesh->mNumVertices);
+    float p[3][3];
+    copy_vertex(&mesh->mVertices[face->mIndices[0]], p[0]);
+    for (unsigned k = 1; k + 1 < face->mNumIndices; k++) {
+      copy_vertex(&mesh->mVertices[face->mIndices[k]], p[1]);
+      copy_vertex(&mesh->mVertices[face->mIndices[k + 1]], p[2]);
+      lt_status status = lt__scene_add_tri(scene, p[0], p[1], p[2]);
+      if (status) return status;
     }
-    lt_status status = lt__scene_add_tri(scene, p[0], p[1], p[2]);
-    if (status) return status;
   }
+  return LT_OK;
+}
+
+/* What lazytrace checks before it hands a PLY or OFF file to assimp, whose readers hang or
+ * crash on some malformed headers (found by fuzzing: a header without its exact end line, a
+ * word broken inside it, a leading blank line), and allocate for the counts a header declares
+ * before they read a byte of the body (a 200-byte file claiming 10^9 vertices).
+ *
+ * A PLY header must be well formed line by line: "ply", then only format, comment, obj_info,
+ * element NAME COUNT and property lines, then "end_header". In both formats every declared
+ * vertex or face takes at least 2 bytes of the body (a digit and a separator in text, more in
+ * binary), so counts beyond half the file's size are refused. */
+static int ply_header_line(const char *line) {
+  static const char *const starts[] = {"format ", "comment", "obj_info", "element ", "property ", NULL};
+  for (int i = 0; starts[i]; i++)
+    if (strncmp(line, starts[i], strlen(starts[i])) == 0) return 1;
+  return 0;
+}
+
+static lt_status check_header(const char *path, FILE *f, long size) {
+  char line[256];
+  double declared = 0;
+  int is_ply = strlen(path) > 4 && strcasecmp(path + strlen(path) - 4, ".ply") == 0, is_off = 0, ended = 0;
+  for (int n = 0; n < 256 && fgets(line, sizeof line, f); n++) {
+    line[strcspn(line, "\r\n")] = '\0';
+    char name[64];
+    double count;
+    if (n == 0) {
+      is_off = strncmp(line, "OFF", 3) == 0;
+      if (is_ply && strcmp(line, "ply") != 0)
+        return lt__fail(LT_ERROR_PARSE, "%s:1: a PLY file starts with a line \"ply\"", path);
+      if (is_ply || !is_off) continue;
+      if (sscanf(line + 3, "%lf %lf", &count, &declared) == 2) {
+        declared += count;
+        break;
+      }
+      continue;
+    }
+    if (is_off) {
+      double v, fc;
+      if (line[0] == '#' || line[0] == '\0') continue;
+      if (sscanf(line, "%lf %lf", &v, &fc) == 2) declared = v + fc;
+      break;
+    }
+    if (!is_ply) break;
+    if (strcmp(line, "end_header") == 0) {
+      ended = 1;
+      break;
+    }
+    if (!ply_header_line(line))
+      return lt__fail(LT_ERROR_PARSE, "%s:%d: not a PLY header line (format, comment, element, property or end_header)",
+                      path, n + 1);
+    if (sscanf(line, "element %63s %lf", name, &count) == 2) declared += count;
+  }
+  if (is_ply && !ended) return lt__fail(LT_ERROR_PARSE, "%s: a PLY header without its end_header line", path);
+  if (declared > (double)size / 2)
+    return lt__fail(LT_ERROR_PARSE, "%s: the header declares %.0f vertices and faces, more than a file of %ld bytes can hold",
+                    path, declared, size);
   return LT_OK;
 }
 
@@ -52,7 +119,11 @@ lt_status lt__load_assimp(const char *path, lt_scene *scene) {
    * LT_ERROR_IO with the system's reason. */
   FILE *f = fopen(path, "rb");
   if (!f) return lt__fail(LT_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+  long size = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
+  rewind(f);
+  lt_status checked = size >= 0 ? check_header(path, f, size) : LT_OK;
   fclose(f);
+  if (checked) return checked;
 
   const struct aiScene *ai = aiImportFile(path, IMPORT_FLAGS);
   if (!ai) return lt__fail(LT_ERROR_PARSE, "%s: %s", path, aiGetErrorString());

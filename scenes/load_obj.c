@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../runtime/error.h"
+#include "runtime/error.h"
 
 /* Tokens quoted in error messages are cut to this many characters. */
 #define QUOTE_MAX 40

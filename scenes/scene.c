@@ -6,7 +6,8 @@
 #include <string.h>
 #include <strings.h>
 
-#include "../runtime/error.h"
+#include "runtime/error.h"
+#include "runtime/output_file.h"
 
 lt_scene *lt__scene_new(void) {
   lt_scene *scene = calloc(1, sizeof *scene);
@@ -125,9 +126,29 @@ void lt_scene_destroy(lt_scene *scene) {
   free(scene);
 }
 
-size_t lt_scene_triangle_count(const lt_scene *scene) { return scene->count; }
-const float *lt_scene_triangles(const lt_scene *scene) { return scene->tris; }
-size_t lt_scene_skipped_triangles(const lt_scene *scene) { return scene->skipped; }
+size_t lt_scene_triangle_count(const lt_scene *scene) { return scene ? scene->count : 0; }
+const float *lt_scene_triangles(const lt_scene *scene) { return scene ? scene->tris : NULL; }
+size_t lt_scene_skipped_triangles(const lt_scene *scene) { return scene ? scene->skipped : 0; }
+
+/* The intersection test's determinant and distance are products of two and three coordinate
+ * differences: beyond about 7e12 a cube overflows float, below about 2e-13 it vanishes into
+ * subnormals. 1e12 and 1e-12 leave a margin for the sums and the ray's own origin. */
+#define SERVABLE_MAX 1e12f
+#define SERVABLE_MIN_SIZE 1e-12f
+
+size_t lt_scene_unservable_triangles(const lt_scene *scene) {
+  size_t n = 0;
+  for (size_t i = 0; scene && i < scene->count; i++) {
+    const float *t = scene->tris + 9 * i;
+    float size = 0.0f, far = 0.0f;
+    for (int k = 0; k < 3; k++) {
+      float lo = fminf(t[k], fminf(t[3 + k], t[6 + k])), hi = fmaxf(t[k], fmaxf(t[3 + k], t[6 + k]));
+      size = fmaxf(size, hi - lo), far = fmaxf(far, fmaxf(fabsf(lo), fabsf(hi)));
+    }
+    n += far > SERVABLE_MAX || (size > 0.0f && size < SERVABLE_MIN_SIZE);
+  }
+  return n;
+}
 
 void lt_scene_bounds(const lt_scene *scene, float lo[3], float hi[3]) {
   for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
@@ -168,17 +189,18 @@ lt_status lt_scene_named_camera(const lt_scene *scene, const char *name, lt_came
 }
 
 lt_status lt_scene_write_obj(const lt_scene *scene, const char *path) {
-  FILE *f = fopen(path, "w");
-  if (!f) return lt__fail(LT_ERROR_IO, "%s: cannot open for writing", path);
+  if (!scene || !path) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_scene_write_obj: NULL argument");
+  lt__output out;
+  lt_status status = lt__output_open(&out, path); /* written whole or not at all */
+  if (status) return status;
+  FILE *f = out.file;
   fprintf(f, "# lazytrace scene: %zu triangles, one face per triangle in triangle-number order\n", scene->count);
 
   /* %.9g round-trips a float exactly, so the file reproduces the triangles bit for bit. */
   for (size_t i = 0; i < 3 * scene->count; i++)
     fprintf(f, "v %.9g %.9g %.9g\n", scene->tris[3 * i], scene->tris[3 * i + 1], scene->tris[3 * i + 2]);
   for (size_t i = 0; i < scene->count; i++) fprintf(f, "f %zu %zu %zu\n", 3 * i + 1, 3 * i + 2, 3 * i + 3);
-  int failed = ferror(f);
-  failed |= fclose(f);
-  return failed ? lt__fail(LT_ERROR_IO, "%s: write failed", path) : LT_OK;
+  return lt__output_commit(&out);
 }
 
 void lt_camera_primary_rays(const lt_camera *camera, int width, int height, lt_ray *out) {

@@ -211,7 +211,9 @@ static lt_status read_instance(const reader *r, const cJSON *item, int index, in
   if (!status) status = integer(r, item, where, "mesh", 0, meshes - 1, 0, &p->mesh);
   if (!status) status = vec3(r, item, where, "translate", -INFINITY, INFINITY, zero, p->translate);
   if (!status) status = number(r, item, where, "rotate_y", -1e6, 1e6, 0.0, &angle);
-  if (!status) status = number(r, item, where, "scale", 1e-30, 1e30, 1.0, &scale);
+  /* Scales beyond 1e6 either way push ordinary meshes to where float products overflow or
+   * vanish (a blank render); such a scale is refused rather than silently served. */
+  if (!status) status = number(r, item, where, "scale", 1e-6, 1e6, 1.0, &scale);
   if (!status) status = integer(r, item, where, "material", 0, (int)r->desc->material_count - 1, 0, &p->material);
   p->rotate_y = (float)angle, p->scale = (float)scale;
   return status;
@@ -351,6 +353,16 @@ static lt_status read_camera(reader *r, const cJSON *root) {
   if (status) return status;
   if (c.eye[0] == c.look[0] && c.eye[1] == c.look[1] && c.eye[2] == c.look[2])
     return expected(r, "camera.look", "a point other than camera.eye", cJSON_GetObjectItemCaseSensitive(cam, "look"));
+
+  /* An up vector that is zero or along the view direction leaves no image plane: every ray
+   * would be NaN and the image blank. The angle between them must be clear of 0 and 180. */
+  double d[3] = {c.look[0] - c.eye[0], c.look[1] - c.eye[1], c.look[2] - c.eye[2]};
+  double x[3] = {d[1] * c.up[2] - d[2] * c.up[1], d[2] * c.up[0] - d[0] * c.up[2], d[0] * c.up[1] - d[1] * c.up[0]};
+  double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], uu = c.up[0] * c.up[0] + c.up[1] * c.up[1] + c.up[2] * c.up[2];
+  double xx = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+  if (!(xx > 1e-6 * dd * uu))
+    return expected(r, "camera.up", "a direction that is not zero and not along the view (camera.look - camera.eye)",
+                    cJSON_GetObjectItemCaseSensitive(cam, "up"));
   c.fov_deg = (float)fov;
 
   /* The file's camera comes first, ahead of any a generator brought along. */

@@ -14,19 +14,38 @@ expect_error() {
   timeout 60 "$LT" "$@" >"$T/out" 2>"$T/err"; local rc=$?
   if [ $rc -eq 0 ]; then fail "$name: accepted"; return; fi
   if [ $rc -ge 124 ]; then fail "$name: exit $rc (crash or hang)"; return; fi
-  if grep -qE "$pattern" "$T/err"; then pass "$name"; else fail "$name: message lacks /$pattern/: $(head -c 300 "$T/err")"; fi
+  if grep -qE -- "$pattern" "$T/err"; then pass "$name"; else fail "$name: message lacks /$pattern/: $(head -c 300 "$T/err")"; fi
+}
+
+# expect_warning NAME PATTERN ARGS...: success, and stderr matches PATTERN.
+expect_warning() {
+  local name=$1 pattern=$2; shift 2
+  timeout 60 "$LT" "$@" >"$T/out" 2>"$T/err"; local rc=$?
+  if [ $rc -ne 0 ]; then fail "$name: exit $rc: $(head -c 300 "$T/err")"; return; fi
+  if grep -qE -- "$pattern" "$T/err"; then pass "$name"; else fail "$name: no warning /$pattern/: $(head -c 300 "$T/err")"; fi
 }
 
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 oops\n' >"$T/bad.obj"
+printf 'v 1e19 0 0\nv 2e19 0 0\nv 1e19 1e19 0\nf 1 2 3\nv 0 0 0\nv 1e-20 0 0\nv 0 1e-20 0\nf 4 5 6\n' >"$T/extreme.obj"
 printf 'v 0 0 0\nv 1 0\n' >"$T/short.obj"
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv nan 0 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 2 5\n' >"$T/nan.obj"
 printf 'v 0 0 0\nv inf 0 0\nv 0 1 0\nf 1 2 3\n' >"$T/allinf.obj"
 head -c 100 /dev/zero >"$T/trunc.rays"
+# A binary PLY whose header declares 3 vertices and a face, with only 12 bytes of body.
+{ printf 'ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n'
+  printf 'property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n'
+  head -c 12 /dev/zero; } >"$T/trunc.ply"
 python3 -c "import struct,sys; open(sys.argv[1],'wb').write(struct.pack('8f',0.2,0.2,-1,0,0,0,1,1e30))" "$T/one.rays"
 
 expect_error "missing scene file" "no-such\.obj.*cannot open" scene "$T/no-such.obj" -o "$T/x.obj"
 expect_error "malformed OBJ names file and line" "bad\.obj:5:" scene "$T/bad.obj" -o "$T/x.obj"
 expect_error "vertex with two coordinates" "short\.obj:2:" scene "$T/short.obj" -o "$T/x.obj"
+expect_error "truncated binary PLY" "trunc\.ply" scene "$T/trunc.ply" -o "$T/x.obj"
+printf 'ply\nformat ascii 1.0\nelement vertex 1000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n' >"$T/huge.ply"
+expect_error "PLY declaring 10^9 vertices" "huge\.ply: the header declares 1000000000" scene "$T/huge.ply" -o "$T/x.obj"
+printf 'OFF\n2000000000 1000000000 0\n0 0 0\n' >"$T/huge.off"
+expect_error "OFF declaring absurd counts" "huge\.off: the header declares" scene "$T/huge.off" -o "$T/x.obj"
+expect_warning "triangles float cannot serve are said" "warning: 2 triangles .*cannot serve" render "$T/extreme.obj" --size 8x8 -o "$T/x.png"
 expect_error "scene of only infinite vertices" "no valid triangles" trace "$T/allinf.obj" --rays "$T/one.rays" --hits "$T/x.hits"
 expect_error "truncated ray file" "trunc\.rays.*not a whole number" trace sphere:2 --rays "$T/trunc.rays" --hits "$T/x.hits"
 expect_error "missing ray file" "cannot open" trace sphere:2 --rays "$T/none.rays" --hits "$T/x.hits"
@@ -37,13 +56,33 @@ expect_error "unknown camera" "no camera named 'side'" render sphere:2@side --si
 expect_error "unknown option" "unknown option '--fast'" render sphere:2 --fast 1
 expect_error "option without value" "needs a value" render sphere:2 --size
 expect_error "bad size" "WIDTHxHEIGHT" render sphere:2 --size 10by10
+# Launch shapes the kernels cannot run: refused before any launch (a local size above the
+# persistent kernels' limit crashed the on-demand kernel; more work-groups than run at once hung).
+for device in native opencl; do
+  expect_error "local size 512 on $device" "exceeds 256" trace sphere:2 --rays "$T/one.rays" --hits "$T/x.hits" --device $device --local-size 512
+  expect_error "local size 4096 on $device" "exceeds 256" render sphere:2 --size 8x8 -o "$T/x.png" --device $device --local-size 4096 --structure lbvh
+done
+expect_error "more work-groups than the device runs" "runs at most [0-9]+ work-groups" trace sphere:2 --rays "$T/one.rays" --hits "$T/x.hits" --device opencl --work-groups 1000
+expect_error "absurd work-group count" "at most 1024" trace sphere:2 --rays "$T/one.rays" --hits "$T/x.hits" --device native --work-groups 16777216
+expect_error "structure option out of range" "--bins '64': expected a whole number from 2 to 32" render sphere:2 --bins 64
+expect_error "grid density not a number" "--grid-density 'abc'" render sphere:2 --structure grid --grid-density abc
 expect_error "unknown structure" "unknown structure 'octree'" render sphere:2 --structure octree
 expect_error "unknown intersection test" "unknown intersection test .exact." render sphere:2 --intersect exact
 expect_error "planned structure refused" "not implemented yet" render sphere:2 --structure kdtree
 expect_error "bad build mode" "unknown build mode 'lazy'" render sphere:2 --build lazy
 expect_error "LBVH is built in full only" "full only" render sphere:2 --structure lbvh --build requested --size 8x8 -o "$T/x.png"
 expect_error "unknown device" "expected auto, native" render sphere:2 --device gpu
-expect_error "unwritable output" "could not write" render sphere:2 --size 8x8 -o /nonexistent/dir/x.png
+expect_error "unwritable output" "cannot write there|could not write" render sphere:2 --size 8x8 -o /nonexistent/dir/x.png
+# A full disk is an error, never a truncated file that exits 0; an output never overwrites an input.
+expect_error "image on a full disk" "/dev/full: could not write" render sphere:2 --size 8x8 -o /dev/full
+expect_error "hits on a full disk" "/dev/full: could not write" trace sphere:2 --rays "$T/one.rays" --hits /dev/full
+expect_error "statistics on a full disk" "/dev/full: could not write" trace sphere:2 --rays "$T/one.rays" --hits "$T/y.hits" --stats /dev/full
+expect_error "OBJ on a full disk" "/dev/full: could not write" scene sphere:2 -o /dev/full
+cp "$T/one.rays" "$T/keep.rays"
+expect_error "hits over the ray file" "also an input" trace sphere:2 --rays "$T/one.rays" --hits "$T/one.rays"
+cmp -s "$T/one.rays" "$T/keep.rays" && pass "the ray file is left as it was" || fail "the ray file was changed"
+expect_error "OBJ over the scene file" "also an input" scene "$T/nan.obj" -o "$T/nan.obj"
+expect_error "statistics over the hits" "two outputs" trace sphere:2 --rays "$T/one.rays" --hits "$T/z.hits" --stats "$T/z.hits"
 expect_error "unknown command" "unknown command" frobnicate
 
 # NaN and infinite vertices: the triangles are skipped, and the count is said.

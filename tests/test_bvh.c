@@ -161,9 +161,41 @@ static void bvh_statistics_are_filled(void **state) {
   lt_scene_destroy(scene);
 }
 
+/* A zeroed config is the default BVH; negative, NaN or unknown values are refused, never taken. */
+static void bvh_config_zero_means_default_and_nonsense_is_refused(void **state) {
+  (void)state;
+  lt_context *ctx;
+  lt_context_config native = {LT_DEVICE_NATIVE, 0, 2, 0, 1};
+  assert_int_equal(lt_context_create(&native, &ctx), LT_OK);
+  lt_scene *scene;
+  assert_int_equal(lt_scene_load("sphere:1", &scene), LT_OK);
+  lt_structure_config zero;
+  memset(&zero, 0, sizeof zero);
+  lt_structure *s;
+  lt_stats *stats;
+  lt_stats_create(&stats);
+  assert_int_equal(lt_structure_create(ctx, scene, &zero, stats, &s), LT_OK);
+  lt_structure_destroy(s);
+  lt_structure_config d = lt_structure_config_default(LT_STRUCTURE_BVH);
+  assert_int_equal(d.build, LT_BUILD_SPECULATIVE);
+  assert_int_equal(d.max_leaf_size, 16);
+  assert_int_equal(d.sah_bins, 32);
+  assert_int_equal(lt_structure_config_default(LT_STRUCTURE_LBVH).build, LT_BUILD_FULL);
+
+  lt_structure_config bad[5];
+  for (int i = 0; i < 5; i++) bad[i] = zero;
+  bad[0].max_leaf_size = -1, bad[1].sah_bins = -5, bad[2].traversal_cost = NAN, bad[3].build = (lt_build_mode)99;
+  bad[4].kind = (lt_structure_kind)99;
+  for (int i = 0; i < 5; i++) assert_int_equal(lt_structure_create(ctx, scene, &bad[i], NULL, &s), LT_ERROR_INVALID_ARGUMENT);
+  lt_stats_destroy(stats);
+  lt_scene_destroy(scene);
+  lt_context_destroy(ctx);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(bvh_single_triangle_scene),
+      cmocka_unit_test(bvh_config_zero_means_default_and_nonsense_is_refused),
       cmocka_unit_test(bvh_statistics_are_filled),
       cmocka_unit_test(bvh_matches_reference_on_every_generator),
       cmocka_unit_test(bvh_backends_agree_bitwise_on_house_grid),

@@ -9,6 +9,7 @@
 #include <cmocka.h>
 
 #include "device/pool.h"
+#include "runtime/context_internal.h"
 #include "tests/support.h"
 
 /* ---- A pool on host arrays, driven by hand from one thread ---- */
@@ -311,6 +312,31 @@ static void pool_terminates_with_zero_one_and_no_queries(void **state) {
   }
 }
 
+/* A native work-group whose thread cannot start stops the launch with an error instead of
+ * leaving the others waiting for it forever (they used to spin without end). */
+static void pool_native_thread_that_cannot_start_is_reported(void **state) {
+  (void)state;
+  lt_context *ctx;
+  lt_context_config native = {LT_DEVICE_NATIVE, 0, 3, 0, 1};
+  assert_int_equal(lt_context_create(&native, &ctx), LT_OK);
+  uint32_t keys[1000];
+  int32_t positions[10];
+  uint32_t answers[10];
+  for (int i = 0; i < 1000; i++) keys[i] = (uint32_t)(i * 7919 % 1000);
+  for (int i = 0; i < 10; i++) positions[i] = i * 97;
+  lt_lazy_sort *sort;
+  assert_int_equal(lt_lazy_sort_create(ctx, keys, 1000, LT_BUILD_REQUESTED, NULL, &sort), LT_OK);
+  lt__native_fail_group = 2;
+  double start = lt_now_ms();
+  lt_status status = lt_lazy_sort_query(sort, positions, 10, answers, NULL);
+  lt__native_fail_group = -1;
+  assert_int_equal(status, LT_ERROR_OUT_OF_MEMORY);
+  assert_non_null(strstr(lt_last_error(), "work-group 2"));
+  assert_true(lt_now_ms() - start < 5000.0);
+  lt_lazy_sort_destroy(sort);
+  lt_context_destroy(ctx);
+}
+
 /* A pool too small for the frontier reports LT_ERROR_CAPACITY; a larger one then succeeds. */
 static void pool_full_reports_and_succeeds_when_retried_larger(void **state) {
   (void)state;
@@ -458,6 +484,7 @@ int main(void) {
       cmocka_unit_test(pool_termination_counter),
       cmocka_unit_test(pool_stall_cap_waits_for_a_busy_group),
       cmocka_unit_test(pool_terminates_with_zero_one_and_no_queries),
+      cmocka_unit_test(pool_native_thread_that_cannot_start_is_reported),
       cmocka_unit_test(pool_full_reports_and_succeeds_when_retried_larger),
       cmocka_unit_test(pool_persists_across_launches),
       cmocka_unit_test(pool_requested_builds_less_than_full),

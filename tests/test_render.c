@@ -278,8 +278,25 @@ static void render_ao_and_diffuse_estimators_are_exact_in_a_closed_sphere(void *
   lt_scene_destroy(scene);
 }
 
+/* A structure built over one scene cannot render another: refused, not traced. */
+static void render_refuses_a_structure_of_another_scene(void **state) {
+  (void)state;
+  lt_scene *a, *b;
+  assert_int_equal(lt_scene_load("sphere:1", &a), LT_OK);
+  assert_int_equal(lt_scene_load("cornell", &b), LT_OK);
+  lt_structure *s;
+  assert_int_equal(lt_structure_create(ctx, a, NULL, NULL, &s), LT_OK);
+  lt_render_config config = {8, 8, 1, NULL, 1, 0, 0};
+  float rgb[8 * 8 * 3];
+  assert_int_equal(lt_render(s, b, &config, rgb, NULL), LT_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(lt_render(s, a, &config, rgb, NULL), LT_OK);
+  lt_structure_destroy(s);
+  lt_scene_destroy(a), lt_scene_destroy(b);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(render_refuses_a_structure_of_another_scene),
       cmocka_unit_test(render_without_lights_traces_no_shadow_rays),
       cmocka_unit_test(render_without_mirrors_traces_no_mirror_rays),
       cmocka_unit_test(render_primary_only_traces_only_primary_rays),

@@ -168,6 +168,14 @@ static void scene_file_errors_name_file_key_and_expectation(void **state) {
        "lights[0]: expected an object with either \"point\" or \"direction\"", LT_ERROR_PARSE},
       {"{\"meshes\": [{\"generator\": \"sphere:1\"}], \"lights\": [{\"direction\": [0, 0, 0]}]}",
        "lights[0].direction: expected a direction that is not zero", LT_ERROR_PARSE},
+      {"{\"meshes\": [{\"generator\": \"sphere:1\"}], \"camera\": {\"eye\": [0, 0, -5], \"look\": [0, 0, 0], "
+       "\"up\": [0, 0, 2]}}",
+       "camera.up: expected a direction that is not zero and not along the view", LT_ERROR_PARSE},
+      {"{\"meshes\": [{\"generator\": \"sphere:1\"}], \"camera\": {\"eye\": [0, 0, -5], \"look\": [0, 0, 0], "
+       "\"up\": [0, 0, 0]}}",
+       "camera.up: expected a direction that is not zero and not along the view", LT_ERROR_PARSE},
+      {"{\"meshes\": [{\"generator\": \"sphere:1\"}], \"instances\": [{\"mesh\": 0, \"scale\": 1e30}]}",
+       "instances[0].scale: expected a number from 1e-06 to 1e+06", LT_ERROR_PARSE},
       {"{\"meshes\": [{\"generator\": \"sphere:1\"}], \"camera\": {\"look\": [0, 0, 0]}}",
        "camera.eye: expected an array of 3 finite numbers, got nothing", LT_ERROR_PARSE},
       {"{\"meshes\": [{\"generator\": \"sphere:1\"}], \"image\": {\"width\": -4}}",

@@ -5,6 +5,10 @@
 #include <stdint.h>
 #include <setjmp.h>
 #include <cmocka.h>
+#include <dirent.h>
+#include <unistd.h>
+
+#include "runtime/output_file.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -53,6 +57,47 @@ static float random_finite_float(uint32_t *s) {
     memcpy(&x, &bits, sizeof x);
     if (isfinite(x)) return x;
   }
+}
+
+/* A write that fails at the end (a full disk) leaves the existing file as it was and no
+ * temporary file beside it. */
+static void scenes_io_failed_write_leaves_the_old_file(void **state) {
+  (void)state;
+  char dir[] = "/tmp/lt_atomic_XXXXXX";
+  assert_non_null(mkdtemp(dir));
+  char path[64];
+  snprintf(path, sizeof path, "%s/out.hits", dir);
+  lt_hit first[2] = {{1.0f, 0.0f, 0.0f, 3}, {INFINITY, 0.0f, 0.0f, -1}}, second[3] = {{2.0f, 0.5f, 0.25f, 7}};
+  assert_int_equal(lt_hits_write(path, first, 2), LT_OK);
+  lt__output_fail_next_commit = 1;
+  assert_int_equal(lt_hits_write(path, second, 3), LT_ERROR_IO);
+  lt_hit *back;
+  size_t n;
+  assert_int_equal(lt_hits_read(path, &back, &n), LT_OK);
+  assert_int_equal(n, 2);
+  assert_memory_equal(back, first, sizeof first);
+  free(back);
+
+  /* Nothing but the file itself is left in the directory. */
+  DIR *d = opendir(dir);
+  int entries = 0;
+  for (struct dirent *e; (e = readdir(d));) entries += e->d_name[0] != '.';
+  closedir(d);
+  assert_int_equal(entries, 1);
+  assert_int_equal(lt_hits_write(path, second, 3), LT_OK);
+  assert_int_equal(lt_hits_read(path, &back, &n), LT_OK);
+  assert_int_equal(n, 3);
+  free(back);
+  unlink(path);
+  rmdir(dir);
+}
+
+/* The accessors answer NULL with "nothing" instead of crashing. */
+static void scenes_io_accessors_of_null_scene(void **state) {
+  (void)state;
+  assert_int_equal(lt_scene_triangle_count(NULL), 0);
+  assert_null(lt_scene_triangles(NULL));
+  assert_int_equal(lt_scene_skipped_triangles(NULL), 0);
 }
 
 static void scenes_io_obj_round_trip_is_bit_identical(void **state) {
@@ -293,6 +338,8 @@ static void scenes_io_generators_are_deterministic(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(scenes_io_accessors_of_null_scene),
+      cmocka_unit_test(scenes_io_failed_write_leaves_the_old_file),
       cmocka_unit_test(scenes_io_obj_round_trip_is_bit_identical),
       cmocka_unit_test(scenes_io_obj_fans_quad_and_pentagon_from_first_vertex),
       cmocka_unit_test(scenes_io_obj_negative_indices_count_back_from_last_vertex),

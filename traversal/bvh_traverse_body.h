@@ -18,7 +18,7 @@
 #define LT_BVH_LEAF LT_BVH_CAT(LT_BVH_TRAVERSE_NAME, _leaf)
 
 /* Intersects the `count` references of a leaf from position `first`. */
-LT_DEVICE void LT_BVH_LEAF(const lt_bvh_view *v, const lt_ray_setup *r, lt_hit_record *hit, lt_i32 first, lt_i32 count,
+LT_DEVICE_OUTLINE void LT_BVH_LEAF(const lt_bvh_view *v, const lt_ray_setup *r, lt_hit_record *hit, lt_i32 first, lt_i32 count,
                            lt_trace_counters *c) {
   for (lt_i32 i = first; i < first + count; i++) {
 #if LT_BVH_TRAVERSE_LEAF_TRIS
@@ -87,33 +87,35 @@ LT_DEVICE int LT_BVH_TRAVERSE_NAME(const lt_bvh_view *v, lt_bvh_ray *q, int flag
     float lo[2][3] = {{lxy.x, lxy.z, z.x}, {rxy.x, rxy.z, z.z}};
     float hi[2][3] = {{lxy.y, lxy.w, z.y}, {rxy.y, rxy.w, z.w}};
 
-    /* Both children's boxes against the ray, up to the best hit so far. */
+    /* Both children's boxes against the ray, up to the best hit so far, before any leaf is
+     * intersected (a call between the two box tests would spill what they share). */
     float best = hit.prim >= 0 ? hit.t : r->tmax;
-    lt_i32 next[2];
+    lt_i32 link[2], count[2], next[2];
     float t_entry[2];
-    int go[2];
+    int go[2], kind[2];
 #if !LT_BVH_TRAVERSE_ONDEMAND
     LT_UNROLL_2
 #endif
     for (int side = 0; side < 2; side++) {
-      lt_i32 link, count;
 #if LT_BVH_TRAVERSE_ONDEMAND
-      int kind = lt_bvh_read_link(nodes, cur * 2 + side, &link, &count);
+      kind[side] = lt_bvh_read_link(nodes, cur * 2 + side, &link[side], &count[side]);
 #else
-      int kind = lt_bvh_child(n, side, &link, &count);
+      kind[side] = lt_bvh_child(n, side, &link[side], &count[side]);
 #endif
-      go[side] = kind != LT_CHILD_EMPTY && lt_ray_box(r, lo[side], hi[side], best, &t_entry[side]);
-      if (!go[side]) continue;
+      go[side] = kind[side] != LT_CHILD_EMPTY && lt_ray_box(r, lo[side], hi[side], best, &t_entry[side]);
+    }
 
-      /* Leaves now; inner nodes go on; an unbuilt child is requested when the ray gets
-       * there (the far one may be hidden by then). */
-      if (kind == LT_CHILD_LEAF) {
-        LT_BVH_LEAF(v, r, &hit, link, count, c);
+    /* Leaves now; inner nodes go on; an unbuilt child is requested when the ray gets there
+     * (the far one may be hidden by then). */
+    for (int side = 0; side < 2; side++) {
+      if (!go[side]) continue;
+      if (kind[side] == LT_CHILD_LEAF) {
+        LT_BVH_LEAF(v, r, &hit, link[side], count[side], c);
         go[side] = 0;
-      } else if (kind == LT_CHILD_UNBUILT) {
+      } else if (kind[side] == LT_CHILD_UNBUILT) {
         next[side] = -2 - (cur * 2 + side);
       } else {
-        next[side] = link;
+        next[side] = link[side];
       }
     }
     if (any_hit && hit.prim >= 0) break;
