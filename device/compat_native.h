@@ -71,6 +71,9 @@ typedef int32_t lt_i32;
 /* The native backend runs one thread per work-group; the runtime sets these per thread. */
 extern _Thread_local int lt__native_group_id;
 extern _Thread_local int lt__native_num_groups;
+/* Fault injection for tests: this work-group stops at once inside a persistent launch, without
+ * leaving the pool (-1: none). */
+extern int lt__native_stall_group;
 
 #define lt_local_id() 0
 #define lt_local_size() 1

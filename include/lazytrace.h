@@ -277,6 +277,9 @@ typedef struct lt_pool_config {
   int max_idle_polls;      /* searches, while every work-group searches and nothing moves,
                               before LT_ERROR_SCHEDULER; default 200,000,000 (seconds) */
   int order_log_size;      /* entries of the log of task starts (for tests); default 0 */
+  int max_stall_seconds;   /* native backend: seconds without progress anywhere, while some
+                              work-group is still inside the launch (one that stopped, say),
+                              before LT_ERROR_SCHEDULER; default 60 */
 } lt_pool_config;
 
 /* A quicksort built on demand through the task pool: the scheduler's test workload. Each task

@@ -20,6 +20,9 @@ LT_DEVICE void LT_LOOP_NAME(const LT_LOOP_ARGS *a, LT_LOCAL lt_loop_shared *sh) 
   lt_i32 item = -1, next_item = 0, end_item = 0; /* this work-item's items: item, then next..end */
   int running = 1;
   lt_pool_worker worker = lt_pool_worker_new();
+#ifndef __OPENCL_VERSION__
+  if (lt_group_id() == lt__native_stall_group) return; /* fault injection: a group that stops */
+#endif
   while (running) {
     /* Advance (or restart) this work-item's items until one waits or they run out. */
     while (item >= 0 && LT_LOOP_ADVANCE(a, &q, &c)) {

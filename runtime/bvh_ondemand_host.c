@@ -69,7 +69,7 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
   if (sah->bins > LT_MAX_BINS) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "at most %d SAH bins", LT_MAX_BINS);
   /* Device buffers: the scene's triangles as they are (no copy on native), their boxes,
    * references, partition room, nodes, bin slabs, counters. */
-  lt_pool_config config = {pool_capacity, 0, 0, 0, 0};
+  lt_pool_config config = {pool_capacity, 0, 0, 0, 0, 0};
   size_t n = (size_t)od->count;
   lt_status status = lt__pool_create(ctx, &config, mode, &od->pool);
   if (!status) status = lt__heap_create(ctx, &od->node_heap, node_capacity);
@@ -148,7 +148,8 @@ static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, in
   static const lt__persistent_kernel kernel = {"lt_bvh_ondemand", lt__native_bvh_ondemand_kernel, od_args_set_any,
                                                od_args_view_any};
   lt_od_args view;
-  return lt__persistent_launch(ctx, &kernel, &args, &view, setup);
+  return lt__persistent_launch_watched(ctx, &kernel, &args, &view, setup, &od->pool.control,
+                                       od->pool.config.max_stall_seconds);
 }
 
 /* Adds the launch's build and traversal counters, summed over the work-groups, to stats and

@@ -57,6 +57,14 @@ char *lt__kernel_source(const char *path, uint64_t *hash);
 lt_status lt__native_run(int groups, void (*fn)(void *arg), void *arg);
 /* Tests set it to a work-group number whose thread then fails to start; -1 otherwise. */
 extern int lt__native_fail_group;
+/* A persistent launch watched for stalls (lt__native_run_watched): the pool's progress counter
+ * and error word, the error to write, and how long nothing may move. */
+typedef struct lt__native_watch {
+  int *progress, *error;
+  int stall_error;
+  double seconds;
+} lt__native_watch;
+lt_status lt__native_run_watched(int groups, void (*fn)(void *arg), void *arg, const lt__native_watch *watch);
 int lt__native_threads(void);
 
 #endif

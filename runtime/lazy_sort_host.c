@@ -36,7 +36,8 @@ static lt_status launch(lt_lazy_sort *s, lt__buffer *queries, lt__buffer *answer
   static const lt__persistent_kernel kernel = {"lt_lazy_sort", lt__native_lazy_sort_kernel, sort_args_set_any,
                                                sort_args_view_any};
   lt_sort_args view;
-  return lt__persistent_launch(ctx, &kernel, &args, &view, setup);
+  return lt__persistent_launch_watched(ctx, &kernel, &args, &view, setup, &s->pool.control,
+                                       s->pool.config.max_stall_seconds);
 }
 
 lt_status lt_lazy_sort_create(lt_context *ctx, const uint32_t *keys, size_t count, lt_build_mode mode,

@@ -1,6 +1,7 @@
 /* Native backend: the kernels compiled as C, one pthread per work-group, local size 1. */
 #include <pthread.h>
 #include <stdlib.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "device/compat.h"
@@ -9,6 +10,7 @@
 
 /* Fault injection for tests: the thread of this work-group fails to start (-1: none). */
 int lt__native_fail_group = -1;
+int lt__native_stall_group = -1;
 
 _Thread_local int lt__native_group_id;
 _Thread_local int lt__native_num_groups = 1;
@@ -58,6 +60,57 @@ static void *worker_main(void *p) {
 int lt__native_threads(void) {
   long n = sysconf(_SC_NPROCESSORS_ONLN);
   return n > 0 ? (int)n : 1;
+}
+
+/* The watchdog of a persistent launch: a thread that reads the pool's progress counter every
+ * 50 ms and, after `seconds` without a change while the work-groups are still running, writes
+ * the stall error that every work-group's next decision obeys. It tells a group that stopped
+ * (or hangs inside a chunk) from one that is merely slow by time, which polls cannot. */
+typedef struct watchdog {
+  lt__native_watch watch;
+  pthread_mutex_t lock;
+  pthread_cond_t finished; /* signalled when every work-group has returned */
+  int done;
+  pthread_t thread;
+} watchdog;
+
+static void *watch_main(void *p) {
+  watchdog *d = p;
+  int last = __atomic_load_n(d->watch.progress, __ATOMIC_SEQ_CST);
+  double still = 0.0;
+  pthread_mutex_lock(&d->lock);
+  while (!d->done) {
+    /* Wait 50 ms, or less when the launch ends (the launch never waits for the watchdog). */
+    struct timespec until;
+    clock_gettime(CLOCK_REALTIME, &until);
+    until.tv_nsec += 50000000;
+    if (until.tv_nsec >= 1000000000) until.tv_sec++, until.tv_nsec -= 1000000000;
+    pthread_cond_timedwait(&d->finished, &d->lock, &until);
+    if (d->done) break;
+    int now = __atomic_load_n(d->watch.progress, __ATOMIC_SEQ_CST);
+    still = now == last ? still + 0.05 : 0.0;
+    last = now;
+    if (still > d->watch.seconds) {
+      int ok = 0;
+      __atomic_compare_exchange_n(d->watch.error, &ok, d->watch.stall_error, 0, __ATOMIC_SEQ_CST, __ATOMIC_SEQ_CST);
+      break;
+    }
+  }
+  pthread_mutex_unlock(&d->lock);
+  return NULL;
+}
+
+lt_status lt__native_run_watched(int groups, void (*fn)(void *arg), void *arg, const lt__native_watch *watch) {
+  if (!watch) return lt__native_run(groups, fn, arg);
+  watchdog d = {*watch, PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER, 0, 0};
+  int watching = pthread_create(&d.thread, NULL, watch_main, &d) == 0;
+  lt_status status = lt__native_run(groups, fn, arg);
+  pthread_mutex_lock(&d.lock);
+  d.done = 1;
+  pthread_cond_signal(&d.finished);
+  pthread_mutex_unlock(&d.lock);
+  if (watching) pthread_join(d.thread, NULL);
+  return status;
 }
 
 lt_status lt__native_run(int groups, void (*fn)(void *arg), void *arg) {

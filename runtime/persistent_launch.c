@@ -1,16 +1,24 @@
 /* Launches of a persistent kernel (see persistent_launch.h). */
 #include "runtime/persistent_launch.h"
 
+#include "device/pool.h"
 #include "kernels/native_kernels.h"
 #include "runtime/context_internal.h"
 
 lt_status lt__persistent_launch(lt_context *ctx, const lt__persistent_kernel *kernel, const void *args,
                                 void *view_storage, int setup) {
+  return lt__persistent_launch_watched(ctx, kernel, args, view_storage, setup, NULL, 0);
+}
+
+lt_status lt__persistent_launch_watched(lt_context *ctx, const lt__persistent_kernel *kernel, const void *args,
+                                        void *view_storage, int setup, lt__buffer *control, int stall_seconds) {
   int groups = setup && ctx->kind == LT_DEVICE_NATIVE ? 1 : ctx->work_groups;
   if (ctx->kind == LT_DEVICE_NATIVE) {
     kernel->view(args, view_storage);
     lt__native_launch native = {view_storage, setup};
-    return lt__native_run(groups, kernel->native, &native);
+    lt_pool_control *c = control && !setup ? control->host : NULL;
+    lt__native_watch watch = {c ? &c->progress : NULL, c ? &c->error : NULL, LT_POOL_ERROR_STALL, (double)stall_seconds};
+    return lt__native_run_watched(groups, kernel->native, &native, c ? &watch : NULL);
   }
   lt__kernel *k;
   lt_status status = lt__opencl_kernel(ctx, kernel->entry, &k);

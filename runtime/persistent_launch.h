@@ -20,5 +20,9 @@ typedef struct lt__persistent_kernel {
  * time), and only work-group 0 works in it; on native it runs one work-group. */
 lt_status lt__persistent_launch(lt_context *ctx, const lt__persistent_kernel *kernel, const void *args,
                                 void *view_storage, int setup);
+/* The same, watched on the native backend: after stall_seconds without progress in the pool
+ * whose control block is `control`, the launch ends with the pool's stall error. */
+lt_status lt__persistent_launch_watched(lt_context *ctx, const lt__persistent_kernel *kernel, const void *args,
+                                        void *view_storage, int setup, lt__buffer *control, int stall_seconds);
 
 #endif

@@ -8,13 +8,14 @@
 #include "runtime/stats_internal.h"
 
 lt_pool_config lt__pool_config_defaults(const lt_pool_config *config) {
-  lt_pool_config c = {65536, 1024, 1024, 200000000, 0};
+  lt_pool_config c = {65536, 1024, 1024, 200000000, 0, 60};
   if (config) {
     if (config->capacity > 0) c.capacity = config->capacity;
     if (config->empty_cache_size > 0) c.empty_cache_size = config->empty_cache_size;
     if (config->priority_cache_size > 0) c.priority_cache_size = config->priority_cache_size;
     if (config->max_idle_polls > 0) c.max_idle_polls = config->max_idle_polls;
     if (config->order_log_size > 0) c.order_log_size = config->order_log_size;
+    if (config->max_stall_seconds > 0) c.max_stall_seconds = config->max_stall_seconds;
   }
   return c;
 }
@@ -114,7 +115,7 @@ lt_status lt__pool_end_launch(lt__pool *pool, lt_stats *stats) {
                      : control.error == LT_POOL_ERROR_HEAP  ? "a device heap (nodes, references) is full"
                      : control.error == LT_POOL_ERROR_KIND  ? "a task of a kind the workload does not run"
                      : control.error == LT_POOL_ERROR_STACK ? "a traversal went deeper than its stack"
-                                                            : "a work-group polled past its cap with no progress";
+                                                            : "nothing moved (a work-group polled past its cap, or the launch stood still for its stall time)";
   return lt__fail(control.error == LT_POOL_ERROR_STALL ? LT_ERROR_SCHEDULER : LT_ERROR_CAPACITY,
                   "%s (capacity %d: %d empty, %d waiting, %d locked, %d unlocked; %d tasks outstanding, "
                   "%d of %d work-groups with own work left)",

@@ -337,6 +337,34 @@ static void pool_native_thread_that_cannot_start_is_reported(void **state) {
   lt_context_destroy(ctx);
 }
 
+/* A work-group that stops inside a launch without leaving the pool (the others wait for it to
+ * give up its queries, and it never does) ends the launch with LT_ERROR_SCHEDULER once nothing
+ * has moved for the configured time, instead of hanging. */
+static void pool_stalled_work_group_is_a_scheduler_error(void **state) {
+  (void)state;
+  lt_context *ctx;
+  lt_context_config native = {LT_DEVICE_NATIVE, 0, 2, 0, 1};
+  assert_int_equal(lt_context_create(&native, &ctx), LT_OK);
+  uint32_t keys[1000];
+  int32_t positions[10];
+  uint32_t answers[10];
+  for (int i = 0; i < 1000; i++) keys[i] = (uint32_t)(i * 7919 % 1000);
+  for (int i = 0; i < 10; i++) positions[i] = i * 97;
+  lt_pool_config config = {0, 0, 0, 0, 0, 1};
+  lt_lazy_sort *sort;
+  assert_int_equal(lt_lazy_sort_create(ctx, keys, 1000, LT_BUILD_REQUESTED, &config, &sort), LT_OK);
+  lt__native_stall_group = 1;
+  double start = lt_now_ms();
+  lt_status status = lt_lazy_sort_query(sort, positions, 10, answers, NULL);
+  lt__native_stall_group = -1;
+  assert_int_equal(status, LT_ERROR_SCHEDULER);
+  double ms = lt_now_ms() - start;
+  fprintf(stderr, "a stalled work-group: LT_ERROR_SCHEDULER after %.0f ms (%s)\n", ms, lt_last_error());
+  assert_true(ms >= 900.0 && ms < 10000.0);
+  lt_lazy_sort_destroy(sort);
+  lt_context_destroy(ctx);
+}
+
 /* A pool too small for the frontier reports LT_ERROR_CAPACITY; a larger one then succeeds. */
 static void pool_full_reports_and_succeeds_when_retried_larger(void **state) {
   (void)state;
@@ -348,14 +376,14 @@ static void pool_full_reports_and_succeeds_when_retried_larger(void **state) {
     int32_t positions[64];
     make_keys(9, n, keys, sorted);
     for (int q = 0; q < 64; q++) positions[q] = (int32_t)(q * 781 % n);
-    lt_pool_config small = {8, 0, 0, 0, 0};
+    lt_pool_config small = {8, 0, 0, 0, 0, 0};
     lt_lazy_sort *sort;
     assert_int_equal(lt_lazy_sort_create(ctx, keys, n, LT_BUILD_REQUESTED, &small, &sort), LT_OK);
     assert_int_equal(lt_lazy_sort_query(sort, positions, 64, answers, NULL), LT_ERROR_CAPACITY);
     assert_non_null(strstr(lt_last_error(), "task pool is full"));
     lt_lazy_sort_destroy(sort);
 
-    lt_pool_config larger = {4096, 0, 0, 0, 0};
+    lt_pool_config larger = {4096, 0, 0, 0, 0, 0};
     assert_int_equal(lt_lazy_sort_create(ctx, keys, n, LT_BUILD_REQUESTED, &larger, &sort), LT_OK);
     assert_int_equal(lt_lazy_sort_query(sort, positions, 64, answers, NULL), LT_OK);
     for (int q = 0; q < 64; q++) assert_int_equal(answers[q], sorted[positions[q]]);
@@ -485,6 +513,7 @@ int main(void) {
       cmocka_unit_test(pool_stall_cap_waits_for_a_busy_group),
       cmocka_unit_test(pool_terminates_with_zero_one_and_no_queries),
       cmocka_unit_test(pool_native_thread_that_cannot_start_is_reported),
+      cmocka_unit_test(pool_stalled_work_group_is_a_scheduler_error),
       cmocka_unit_test(pool_full_reports_and_succeeds_when_retried_larger),
       cmocka_unit_test(pool_persists_across_launches),
       cmocka_unit_test(pool_requested_builds_less_than_full),
