@@ -148,7 +148,7 @@ static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, in
   static const lt__persistent_kernel kernel = {"lt_bvh_ondemand", lt__native_bvh_ondemand_kernel, od_args_set_any,
                                                od_args_view_any};
   lt_od_args view;
-  return lt__persistent_launch_watched(ctx, &kernel, &args, &view, setup, &od->pool.control,
+  return lt__persistent_launch(ctx, &kernel, &args, &view, setup, &od->pool.control,
                                        od->pool.config.max_stall_seconds);
 }
 

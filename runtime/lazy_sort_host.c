@@ -36,7 +36,7 @@ static lt_status launch(lt_lazy_sort *s, lt__buffer *queries, lt__buffer *answer
   static const lt__persistent_kernel kernel = {"lt_lazy_sort", lt__native_lazy_sort_kernel, sort_args_set_any,
                                                sort_args_view_any};
   lt_sort_args view;
-  return lt__persistent_launch_watched(ctx, &kernel, &args, &view, setup, &s->pool.control,
+  return lt__persistent_launch(ctx, &kernel, &args, &view, setup, &s->pool.control,
                                        s->pool.config.max_stall_seconds);
 }
 

@@ -6,11 +6,6 @@
 #include "runtime/context_internal.h"
 
 lt_status lt__persistent_launch(lt_context *ctx, const lt__persistent_kernel *kernel, const void *args,
-                                void *view_storage, int setup) {
-  return lt__persistent_launch_watched(ctx, kernel, args, view_storage, setup, NULL, 0);
-}
-
-lt_status lt__persistent_launch_watched(lt_context *ctx, const lt__persistent_kernel *kernel, const void *args,
                                         void *view_storage, int setup, lt__buffer *control, int stall_seconds) {
   int groups = setup && ctx->kind == LT_DEVICE_NATIVE ? 1 : ctx->work_groups;
   if (ctx->kind == LT_DEVICE_NATIVE) {

@@ -17,12 +17,10 @@ typedef struct lt__persistent_kernel {
 /* One launch over the workload's host arguments `args` (view_storage: room for its native
  * view). The set-up launch (setup = 1) makes the root: on OpenCL it has the shape of the
  * others, because PoCL compiles a kernel for the shape of its first launch (counted as compile
- * time), and only work-group 0 works in it; on native it runs one work-group. */
+ * time), and only work-group 0 works in it; on native it runs one work-group. On the native
+ * backend a launch is watched: after stall_seconds without progress in the pool whose control
+ * block is `control`, it ends with the pool's stall error. */
 lt_status lt__persistent_launch(lt_context *ctx, const lt__persistent_kernel *kernel, const void *args,
-                                void *view_storage, int setup);
-/* The same, watched on the native backend: after stall_seconds without progress in the pool
- * whose control block is `control`, the launch ends with the pool's stall error. */
-lt_status lt__persistent_launch_watched(lt_context *ctx, const lt__persistent_kernel *kernel, const void *args,
                                         void *view_storage, int setup, lt__buffer *control, int stall_seconds);
 
 #endif

@@ -8,7 +8,13 @@
 #include "runtime/error.h"
 #include "runtime/stats_internal.h"
 
-lt_status lt__trace_batch_begin(lt_context *ctx, lt__trace_batch *batch, const lt_ray *rays, int count, lt_hit *hits) {
+typedef struct trace_batch {
+  lt__buffer rays, hits; /* on native, the caller's arrays themselves */
+  int count;
+  uint64_t traversal_steps, intersections; /* what the launch counted */
+} trace_batch;
+
+static lt_status trace_batch_begin(lt_context *ctx, trace_batch *batch, const lt_ray *rays, int count, lt_hit *hits) {
   memset(batch, 0, sizeof *batch);
   batch->count = count;
   lt_status status = lt__buffer_wrap(ctx, &batch->rays, rays, (size_t)count * sizeof(lt_ray));
@@ -19,7 +25,7 @@ lt_status lt__trace_batch_begin(lt_context *ctx, lt__trace_batch *batch, const l
   return lt__buffer_create(ctx, &batch->hits, (size_t)count * sizeof(lt_hit), NULL, LT_BUFFER_UNINIT);
 }
 
-lt_status lt__trace_batch_end(lt_context *ctx, lt__trace_batch *batch, lt_hit *hits, lt_status status) {
+static lt_status trace_batch_end(lt_context *ctx, trace_batch *batch, lt_hit *hits, lt_status status) {
   if (!status && ctx->kind == LT_DEVICE_OPENCL)
     status = lt__buffer_read(ctx, &batch->hits, 0, (size_t)batch->count * sizeof(lt_hit), hits);
   lt__buffer_release(&batch->rays);
@@ -36,8 +42,8 @@ static lt_status overflow(void) {
  * work-groups as a large batch, so that the compile lands in compile time, not trace time. */
 #define WARM_UP_GROUPS 1024
 
-lt_status lt__trace_opencl(lt_context *ctx, const char *entry, lt__set_args_fn set_args, void *args, lt_i32 *ray_count,
-                           lt__trace_batch *batch) {
+static lt_status trace_opencl(lt_context *ctx, const char *entry, lt__set_args_fn set_args, void *args, lt_i32 *ray_count,
+                           trace_batch *batch) {
   lt__kernel *kernel;
   lt_status status = lt__opencl_kernel(ctx, entry, &kernel);
   if (status) return status;
@@ -83,7 +89,7 @@ lt_status lt__trace_opencl(lt_context *ctx, const char *entry, lt__set_args_fn s
   return !status && failed ? overflow() : status;
 }
 
-lt_status lt__trace_native(lt_context *ctx, void (*fn)(void *), const void *view, lt__trace_batch *batch) {
+static lt_status trace_native(lt_context *ctx, void (*fn)(void *), const void *view, trace_batch *batch) {
   lt__native_trace_launch launch = {view, 0, 0, 0, 0};
   lt_status status = lt__native_run(ctx->work_groups, fn, &launch);
   batch->traversal_steps += launch.traversal_steps, batch->intersections += launch.intersections;
@@ -94,16 +100,16 @@ lt_status lt__trace_finished(lt_context *ctx, const lt__trace_call *call, const 
                              lt_hit *hits, lt_stats *stats) {
   /* The kernel's first launch is compile time (lt__opencl_run), taken out of the trace time. */
   double start = lt_now_ms(), compile = ctx->compile_ms;
-  lt__trace_batch batch;
-  lt_status status = lt__trace_batch_begin(ctx, &batch, rays, count, hits);
+  trace_batch batch;
+  lt_status status = trace_batch_begin(ctx, &batch, rays, count, hits);
   *call->rays = &batch.rays, *call->hits = &batch.hits, *call->ray_count = count, *call->flags = flags;
   if (!status && ctx->kind == LT_DEVICE_NATIVE) {
     call->view(call->args, call->view_storage);
-    status = lt__trace_native(ctx, call->native, call->view_storage, &batch);
+    status = trace_native(ctx, call->native, call->view_storage, &batch);
   } else if (!status) {
-    status = lt__trace_opencl(ctx, call->entry, call->set_args, call->args, call->ray_count, &batch);
+    status = trace_opencl(ctx, call->entry, call->set_args, call->args, call->ray_count, &batch);
   }
-  status = lt__trace_batch_end(ctx, &batch, hits, status);
+  status = trace_batch_end(ctx, &batch, hits, status);
   if (!status) {
     lt__stats_add(stats, LT_STAT_TRACE_MS, lt_now_ms() - start - (ctx->compile_ms - compile));
     lt__stats_add(stats, LT_STAT_TRAVERSAL_STEPS, (double)batch.traversal_steps);

@@ -9,27 +9,8 @@
 #include "device/compat.h"
 #include "runtime/buffer.h"
 
-typedef struct lt__trace_batch {
-  lt__buffer rays, hits; /* on native, the caller's arrays themselves */
-  int count;
-  uint64_t traversal_steps, intersections; /* what the launch counted */
-} lt__trace_batch;
-
-/* The batch's buffers over the caller's rays and hits. */
-lt_status lt__trace_batch_begin(lt_context *ctx, lt__trace_batch *batch, const lt_ray *rays, int count, lt_hit *hits);
-/* Reads the hits back (OpenCL) and releases the buffers. */
-lt_status lt__trace_batch_end(lt_context *ctx, lt__trace_batch *batch, lt_hit *hits, lt_status status);
 /* Sets a kernel's own arguments (runtime/kernel_args_host.h, name##_set_any). */
 typedef cl_int (*lt__set_args_fn)(cl_kernel kernel, const void *args, cl_uint *next);
-/* OpenCL: runs entry point `entry` over the batch, one work-item per ray: its own arguments
- * from set_args(args), then the counters and the error flag; sums the counters. `ray_count`
- * points at the batch's count inside args: the kernel's first launch (compile time) runs with
- * it at 0. A stack overflow is LT_ERROR_CAPACITY. */
-lt_status lt__trace_opencl(lt_context *ctx, const char *entry, lt__set_args_fn set_args, void *args, lt_i32 *ray_count,
-                           lt__trace_batch *batch);
-/* Native: runs fn (an lt__native_trace_launch over `view`) on every work-group. */
-lt_status lt__trace_native(lt_context *ctx, void (*fn)(void *), const void *view, lt__trace_batch *batch);
-
 /* Everything a finished structure's trace needs from it: its trace kernel (the OpenCL entry,
  * the native twin, and the generated argument functions of runtime/kernel_args_host.h), its
  * host arguments with the structure's own entries filled in, where the batch's entries are in

@@ -33,15 +33,38 @@ static lt_structure_config variant_config(size_t v) {
   return c;
 }
 
+/* A scene, random rays through it and their brute-force closest hits. */
+typedef struct fixture {
+  lt_context *ctx;
+  lt_scene *scene;
+  lt_ray *rays;
+  lt_hit *ref, *hits;
+} fixture;
+
+static fixture fixture_new(const char *spec, uint64_t seed) {
+  fixture f;
+  f.ctx = native_context();
+  assert_int_equal(lt_scene_load(spec, &f.scene), LT_OK);
+  f.rays = malloc(RAYS * sizeof *f.rays);
+  f.ref = malloc(RAYS * sizeof *f.ref), f.hits = malloc(RAYS * sizeof *f.hits);
+  lt_test_random_rays(f.scene, seed, RAYS, f.rays);
+  assert_int_equal(lt_reference_trace(f.scene, f.rays, RAYS, LT_QUERY_CLOSEST, f.ref), LT_OK);
+  return f;
+}
+
+static void fixture_free(fixture *f) {
+  free(f->rays), free(f->ref), free(f->hits);
+  lt_scene_destroy(f->scene);
+  lt_context_destroy(f->ctx);
+}
+
 static void faults_tiny_capacities_retry_to_the_same_hits(void **state) {
   (void)state;
-  lt_context *ctx = native_context();
-  lt_scene *scene;
-  assert_int_equal(lt_scene_load("hairball:300", &scene), LT_OK);
-  lt_ray *rays = malloc(RAYS * sizeof *rays);
-  lt_hit *ref = malloc(RAYS * sizeof *ref), *hits = malloc(RAYS * sizeof *hits);
-  lt_test_random_rays(scene, 41, RAYS, rays);
-  assert_int_equal(lt_reference_trace(scene, rays, RAYS, LT_QUERY_CLOSEST, ref), LT_OK);
+  fixture f = fixture_new("hairball:300", 41);
+  lt_context *ctx = f.ctx;
+  lt_scene *scene = f.scene;
+  lt_ray *rays = f.rays;
+  lt_hit *ref = f.ref, *hits = f.hits;
   size_t variants = lt_structure_variants(NULL, NULL, 0);
   lt__structure_tiny_capacities = 1;
   for (size_t v = 0; v < variants; v++) {
@@ -55,9 +78,7 @@ static void faults_tiny_capacities_retry_to_the_same_hits(void **state) {
     lt_structure_destroy(s);
   }
   lt__structure_tiny_capacities = 0;
-  free(rays), free(ref), free(hits);
-  lt_scene_destroy(scene);
-  lt_context_destroy(ctx);
+  fixture_free(&f);
 }
 
 /* For every variant, the k-th buffer allocation of create plus two traces fails, for every k
@@ -65,13 +86,11 @@ static void faults_tiny_capacities_retry_to_the_same_hits(void **state) {
  * without a failure gives the reference's hits. */
 static void faults_every_allocation_failure_is_a_clean_error(void **state) {
   (void)state;
-  lt_context *ctx = native_context();
-  lt_scene *scene;
-  assert_int_equal(lt_scene_load("sphere:2", &scene), LT_OK);
-  lt_ray *rays = malloc(RAYS * sizeof *rays);
-  lt_hit *ref = malloc(RAYS * sizeof *ref), *hits = malloc(RAYS * sizeof *hits);
-  lt_test_random_rays(scene, 43, RAYS, rays);
-  assert_int_equal(lt_reference_trace(scene, rays, RAYS, LT_QUERY_CLOSEST, ref), LT_OK);
+  fixture f = fixture_new("sphere:2", 43);
+  lt_context *ctx = f.ctx;
+  lt_scene *scene = f.scene;
+  lt_ray *rays = f.rays;
+  lt_hit *ref = f.ref, *hits = f.hits;
   size_t variants = lt_structure_variants(NULL, NULL, 0);
   for (size_t v = 0; v < variants; v++) {
     lt_structure_config c = variant_config(v);
@@ -104,9 +123,7 @@ static void faults_every_allocation_failure_is_a_clean_error(void **state) {
     assert_int_equal(lt_test_count_mismatches("after injected failures", hits, ref, RAYS), 0);
     lt_structure_destroy(s);
   }
-  free(rays), free(ref), free(hits);
-  lt_scene_destroy(scene);
-  lt_context_destroy(ctx);
+  fixture_free(&f);
 }
 
 int main(void) {

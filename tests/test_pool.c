@@ -312,29 +312,38 @@ static void pool_terminates_with_zero_one_and_no_queries(void **state) {
   }
 }
 
+/* A requested lazy sort of 1000 keys on `groups` native work-groups, queried for 10 keys with
+ * one fault injected: the thread of work-group fail_group cannot start, or work-group
+ * stall_group stops at once (-1: none). Returns the query's status; *ms gets its time. */
+static lt_status query_with_fault(int groups, int fail_group, int stall_group, int stall_seconds, double *ms) {
+  lt_context *ctx;
+  lt_context_config native = {LT_DEVICE_NATIVE, 0, groups, 0, 1};
+  assert_int_equal(lt_context_create(&native, &ctx), LT_OK);
+  uint32_t keys[1000], answers[10];
+  int32_t positions[10];
+  for (int i = 0; i < 1000; i++) keys[i] = (uint32_t)(i * 7919 % 1000);
+  for (int i = 0; i < 10; i++) positions[i] = i * 97;
+  lt_pool_config config = {0, 0, 0, 0, 0, stall_seconds};
+  lt_lazy_sort *sort;
+  assert_int_equal(lt_lazy_sort_create(ctx, keys, 1000, LT_BUILD_REQUESTED, &config, &sort), LT_OK);
+  lt__native_fail_group = fail_group, lt__native_stall_group = stall_group;
+  double start = lt_now_ms();
+  lt_status status = lt_lazy_sort_query(sort, positions, 10, answers, NULL);
+  *ms = lt_now_ms() - start;
+  lt__native_fail_group = lt__native_stall_group = -1;
+  lt_lazy_sort_destroy(sort);
+  lt_context_destroy(ctx);
+  return status;
+}
+
 /* A native work-group whose thread cannot start stops the launch with an error instead of
  * leaving the others waiting for it forever (they used to spin without end). */
 static void pool_native_thread_that_cannot_start_is_reported(void **state) {
   (void)state;
-  lt_context *ctx;
-  lt_context_config native = {LT_DEVICE_NATIVE, 0, 3, 0, 1};
-  assert_int_equal(lt_context_create(&native, &ctx), LT_OK);
-  uint32_t keys[1000];
-  int32_t positions[10];
-  uint32_t answers[10];
-  for (int i = 0; i < 1000; i++) keys[i] = (uint32_t)(i * 7919 % 1000);
-  for (int i = 0; i < 10; i++) positions[i] = i * 97;
-  lt_lazy_sort *sort;
-  assert_int_equal(lt_lazy_sort_create(ctx, keys, 1000, LT_BUILD_REQUESTED, NULL, &sort), LT_OK);
-  lt__native_fail_group = 2;
-  double start = lt_now_ms();
-  lt_status status = lt_lazy_sort_query(sort, positions, 10, answers, NULL);
-  lt__native_fail_group = -1;
-  assert_int_equal(status, LT_ERROR_OUT_OF_MEMORY);
+  double ms;
+  assert_int_equal(query_with_fault(3, 2, -1, 0, &ms), LT_ERROR_OUT_OF_MEMORY);
   assert_non_null(strstr(lt_last_error(), "work-group 2"));
-  assert_true(lt_now_ms() - start < 5000.0);
-  lt_lazy_sort_destroy(sort);
-  lt_context_destroy(ctx);
+  assert_true(ms < 5000.0);
 }
 
 /* A work-group that stops inside a launch without leaving the pool (the others wait for it to
@@ -342,27 +351,10 @@ static void pool_native_thread_that_cannot_start_is_reported(void **state) {
  * has moved for the configured time, instead of hanging. */
 static void pool_stalled_work_group_is_a_scheduler_error(void **state) {
   (void)state;
-  lt_context *ctx;
-  lt_context_config native = {LT_DEVICE_NATIVE, 0, 2, 0, 1};
-  assert_int_equal(lt_context_create(&native, &ctx), LT_OK);
-  uint32_t keys[1000];
-  int32_t positions[10];
-  uint32_t answers[10];
-  for (int i = 0; i < 1000; i++) keys[i] = (uint32_t)(i * 7919 % 1000);
-  for (int i = 0; i < 10; i++) positions[i] = i * 97;
-  lt_pool_config config = {0, 0, 0, 0, 0, 1};
-  lt_lazy_sort *sort;
-  assert_int_equal(lt_lazy_sort_create(ctx, keys, 1000, LT_BUILD_REQUESTED, &config, &sort), LT_OK);
-  lt__native_stall_group = 1;
-  double start = lt_now_ms();
-  lt_status status = lt_lazy_sort_query(sort, positions, 10, answers, NULL);
-  lt__native_stall_group = -1;
-  assert_int_equal(status, LT_ERROR_SCHEDULER);
-  double ms = lt_now_ms() - start;
+  double ms;
+  assert_int_equal(query_with_fault(2, -1, 1, 1, &ms), LT_ERROR_SCHEDULER);
   fprintf(stderr, "a stalled work-group: LT_ERROR_SCHEDULER after %.0f ms (%s)\n", ms, lt_last_error());
   assert_true(ms >= 900.0 && ms < 10000.0);
-  lt_lazy_sort_destroy(sort);
-  lt_context_destroy(ctx);
 }
 
 /* A pool too small for the frontier reports LT_ERROR_CAPACITY; a larger one then succeeds. */

@@ -1,11 +1,13 @@
-/* Fuzz target: lazytrace's own OBJ reader (scenes/load_obj.c). */
+/* Fuzz targets of the readers lt_scene_load picks by extension: built once per extension
+ * (LT_FUZZ_SUFFIX: ".obj" for lazytrace's own OBJ reader, ".ply" for the assimp path, ".json"
+ * for scene files; tests/CMakeLists.txt). */
 #include <unistd.h>
 
 #include "lazytrace.h"
 #include "tests/fuzz/fuzz_target.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
-  const char *path = lt_fuzz_file(data, size, ".obj");
+  const char *path = lt_fuzz_file(data, size, LT_FUZZ_SUFFIX);
   if (!path) return 0;
   lt_scene *scene = NULL;
   if (lt_scene_load(path, &scene) == LT_OK) {
