@@ -183,7 +183,8 @@ lt_status lt_stats_write_json(const lt_stats *stats, FILE *out);
 #define LT_STRUCTURE_LIST(X)                                                                   \
   X(LT_STRUCTURE_BVH, bvh)   /* binned SAH BVH through the task pool: full or on demand */   \
   X(LT_STRUCTURE_LBVH, lbvh) /* Morton-code LBVH with an SAH top, built on the host: full */ \
-  X(LT_STRUCTURE_GRID, grid) /* uniform grid (Thrane and Simonsen 2005), on the host: full */
+  X(LT_STRUCTURE_GRID, grid) /* uniform grid (Thrane and Simonsen 2005), on the host: full */ \
+  X(LT_STRUCTURE_KDTREE, kdtree) /* binned SAH kd-tree through the task pool: full or on demand */
 
 typedef enum {
 #define LT_STRUCTURE_ENUM(kind, entry) kind,

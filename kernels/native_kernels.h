@@ -15,6 +15,8 @@ typedef struct lt__native_launch {
 void lt__native_lazy_sort_kernel(void *arg);
 /* kernels/native_bvh_ondemand.c: arg is an lt__native_launch over an lt_od_args. */
 void lt__native_bvh_ondemand_kernel(void *arg);
+/* kernels/native_kd_ondemand.c: arg is an lt__native_launch over an lt_kd_args. */
+void lt__native_kd_ondemand_kernel(void *arg);
 /* kernels/native_bvh_trace.c: arg is an lt__native_trace_launch over an lt_bvh_trace_view. */
 void lt__native_bvh_trace_kernel(void *arg);
 /* kernels/native_grid_trace.c: arg is an lt__native_trace_launch over an lt_grid_trace_view. */

@@ -3,3 +3,4 @@
 #include "kernels/grid_trace.cl"
 #include "kernels/lazy_sort.cl"
 #include "kernels/bvh_ondemand.cl"
+#include "kernels/kd_ondemand.cl"

@@ -68,7 +68,7 @@ expect_error "structure option out of range" "--bins '64': expected a whole numb
 expect_error "grid density not a number" "--grid-density 'abc'" render sphere:2 --structure grid --grid-density abc
 expect_error "unknown structure" "unknown structure 'octree'" render sphere:2 --structure octree
 expect_error "unknown intersection test" "unknown intersection test .exact." render sphere:2 --intersect exact
-expect_error "planned structure refused" "not implemented yet" render sphere:2 --structure kdtree
+expect_error "planned structure refused" "not implemented yet" render sphere:2 --structure irgrid
 expect_error "bad build mode" "unknown build mode 'lazy'" render sphere:2 --build lazy
 expect_error "LBVH is built in full only" "full only" render sphere:2 --structure lbvh --build requested --size 8x8 -o "$T/x.png"
 expect_error "unknown device" "expected auto, native" render sphere:2 --device gpu

@@ -1,0 +1,177 @@
+/* The host half of the on-demand kd-tree (see kd_ondemand_host.h). */
+#include "runtime/kd_ondemand_host.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "kernels/kd_ondemand.h"
+#include "kernels/native_kernels.h"
+#include "runtime/error.h"
+#include "runtime/kernel_args_host.h"
+#include "runtime/persistent_launch.h"
+#include "runtime/stats_internal.h"
+
+int lt__kd_max_depth(size_t n) {
+  double depth = 1.2 * log2(n > 1 ? (double)n : 1.0) + 2.0;
+  return depth > LT_KD_MAX_DEPTH ? LT_KD_MAX_DEPTH : (int)depth;
+}
+
+static lt_status launch(lt__kd *kd, lt__buffer *rays, lt__buffer *hits, int count, int flags, int speculate, int setup);
+static lt_status read_counters(lt__kd *kd, lt_stats *stats);
+
+static lt_box scene_bounds(const lt_scene *scene) {
+  lt_box bounds = lt_box_empty();
+  const float *v = lt_scene_triangles(scene);
+  size_t n = lt_scene_triangle_count(scene);
+  for (size_t i = 0; i < 3 * n; i++)
+    for (int k = 0; k < 3; k++) {
+      float x = v[3 * i + k];
+      bounds.lo[k] = x < bounds.lo[k] ? x : bounds.lo[k];
+      bounds.hi[k] = x > bounds.hi[k] ? x : bounds.hi[k];
+    }
+  return bounds;
+}
+
+lt_status lt__kd_create(lt_context *ctx, const lt_scene *scene, const lt__kd_config *config, int mode,
+                        int pool_capacity, int node_capacity, int ref_capacity, lt__kd *kd) {
+  memset(kd, 0, sizeof *kd);
+  kd->ctx = ctx;
+  kd->count = (int)lt_scene_triangle_count(scene);
+  kd->config = *config;
+  kd->bounds = scene_bounds(scene);
+  if (config->bins > LT_MAX_BINS) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "at most %d SAH bins", LT_MAX_BINS);
+  lt_pool_config pool = {pool_capacity, 0, 0, 0, 0, 0};
+  size_t n = (size_t)kd->count;
+  lt_status status = lt__pool_create(ctx, &pool, mode, &kd->pool);
+  if (!status) status = lt__heap_create(ctx, &kd->node_heap, node_capacity);
+  if (!status) status = lt__heap_create(ctx, &kd->ref_heap, ref_capacity);
+  if (!status) status = lt__buffer_wrap(ctx, &kd->verts, lt_scene_triangles(scene), n * 9 * sizeof(float));
+  if (!status)
+    status = lt__buffer_create(ctx, &kd->nodes, (size_t)node_capacity * sizeof(lt_kd_node), NULL, LT_BUFFER_UNINIT);
+  if (!status) status = lt__buffer_create(ctx, &kd->refs, (size_t)ref_capacity * 4, NULL, LT_BUFFER_UNINIT);
+  if (!status)
+    status = lt__buffer_create(ctx, &kd->counters, (size_t)ctx->work_groups * LT_KD_STAT_COUNT * 4, NULL, 0);
+
+  /* Node 0, the super-root, and the root's task (or leaf), made on the device. */
+  lt__buffer none;
+  memset(&none, 0, sizeof none);
+  if (!status) status = lt__buffer_create(ctx, &none, 16, NULL, 0);
+  if (!status) status = launch(kd, &none, &none, 0, 0, 0, 1);
+  lt__buffer_release(&none);
+  if (!status) status = lt__pool_end_launch(&kd->pool, NULL);
+  if (!status) status = read_counters(kd, NULL);
+  if (status) lt__kd_release(kd);
+  return status;
+}
+
+void lt__kd_release(lt__kd *kd) {
+  lt__pool_release(&kd->pool);
+  lt__heap_release(&kd->node_heap);
+  lt__heap_release(&kd->ref_heap);
+  lt__buffer *buffers[] = {&kd->verts, &kd->nodes, &kd->refs, &kd->counters};
+  for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++) lt__buffer_release(buffers[i]);
+}
+
+/* The kernel's arguments from its one list (kernels/kd_ondemand.h). */
+LT__KERNEL_ARGS(kd_args, LT_KD_ARGS, lt_kd_args)
+
+static lt_status launch(lt__kd *kd, lt__buffer *rays, lt__buffer *hits, int count, int flags, int speculate, int setup) {
+  kd_args args;
+  LT__POOL_HOST_ARGS(&args, &kd->pool);
+  LT__HEAP_HOST_ARGS(&args, node_heap, &kd->node_heap);
+  LT__HEAP_HOST_ARGS(&args, ref_heap, &kd->ref_heap);
+  args.verts = &kd->verts, args.nodes = &kd->nodes, args.refs = &kd->refs, args.counters = &kd->counters;
+  args.task_kind = 0; /* the kernel numbers its own task kinds */
+  args.max_leaf = kd->config.max_leaf, args.bins = kd->config.bins, args.max_depth = kd->config.max_depth;
+  args.traversal_cost = kd->config.traversal_cost, args.intersection_cost = kd->config.intersection_cost;
+  args.rays = rays, args.hits = hits, args.ray_count = count, args.flags = flags;
+  args.max_idle_polls = kd->pool.config.max_idle_polls, args.speculate = speculate, args.prim_count = kd->count;
+  args.root_lo = (lt_float4){kd->bounds.lo[0], kd->bounds.lo[1], kd->bounds.lo[2], 0.0f};
+  args.root_hi = (lt_float4){kd->bounds.hi[0], kd->bounds.hi[1], kd->bounds.hi[2], 0.0f};
+  static const lt__persistent_kernel kernel = {"lt_kd_ondemand", lt__native_kd_ondemand_kernel, kd_args_set_any,
+                                               kd_args_view_any};
+  lt_kd_args view;
+  return lt__persistent_launch(kd->ctx, &kernel, &args, &view, setup, &kd->pool.control,
+                               kd->pool.config.max_stall_seconds);
+}
+
+/* Adds the launch's counters, summed over the work-groups (the depth as a maximum), to stats
+ * and the tree's totals, and clears them for the next launch. */
+static lt_status read_counters(lt__kd *kd, lt_stats *stats) {
+  static const int stat_of[LT_KD_STAT_COUNT] = {
+#define LT_KD_STAT_TARGET(id, stat) stat,
+      LT_KD_STAT_LIST(LT_KD_STAT_TARGET)
+#undef LT_KD_STAT_TARGET
+  };
+  lt_context *ctx = kd->ctx;
+  size_t words = (size_t)ctx->work_groups * LT_KD_STAT_COUNT;
+  lt_u32 *counters = malloc(words * sizeof *counters);
+  if (!counters) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory reading counters");
+  lt_status status = lt__buffer_read(ctx, &kd->counters, 0, words * 4, counters);
+  double sum[LT_KD_STAT_COUNT] = {0};
+  for (size_t w = 0; !status && w < words; w++) {
+    int k = (int)(w % LT_KD_STAT_COUNT);
+    if (k == LT_KD_STAT_DEPTH) kd->depth = (int)counters[w] > kd->depth ? (int)counters[w] : kd->depth;
+    else sum[k] += counters[w];
+  }
+  free(counters);
+  if (status) return status;
+  kd->leaves += sum[LT_KD_STAT_LEAVES];
+  kd->leaf_refs += sum[LT_KD_STAT_LEAF_REFS];
+  kd->sort_ops += sum[LT_KD_STAT_SORT_OPS];
+  for (int k = 0; k < LT_KD_STAT_COUNT; k++)
+    if (stat_of[k] != LT_STAT_NONE) lt__stats_add(stats, (lt_stat_id)stat_of[k], sum[k]);
+  return lt__buffer_fill(ctx, &kd->counters, 0);
+}
+
+lt_status lt__kd_launch(lt__kd *kd, const lt_ray *rays, int count, int flags, lt_hit *hits, int speculate,
+                        lt_stats *stats) {
+  lt_context *ctx = kd->ctx;
+  lt__buffer ray_buf, hit_buf;
+  lt_status status = lt__buffer_create(ctx, &ray_buf, (size_t)count * sizeof(lt_ray), rays, 0);
+  if (status) return status;
+  status = lt__buffer_create(ctx, &hit_buf, (size_t)count * sizeof(lt_hit), NULL, 0);
+  if (!status) status = lt__pool_begin_launch(&kd->pool);
+  if (!status) status = launch(kd, &ray_buf, &hit_buf, count, flags, speculate, 0);
+  if (!status) status = lt__pool_end_launch(&kd->pool, stats);
+  if (!status && count) status = lt__buffer_read(ctx, &hit_buf, 0, (size_t)count * sizeof(lt_hit), hits);
+  if (!status) status = read_counters(kd, stats);
+  lt__buffer_release(&ray_buf);
+  lt__buffer_release(&hit_buf);
+  return status;
+}
+
+void lt__kd_heaps_full(lt__kd *kd, int *nodes_full, int *refs_full) {
+  int used;
+  *nodes_full = *refs_full = 0;
+  lt__heap_used(kd->ctx, &kd->node_heap, &used, nodes_full);
+  lt__heap_used(kd->ctx, &kd->ref_heap, &used, refs_full);
+}
+
+double lt__kd_nodes_built(lt__kd *kd) {
+  int used = 0, exhausted;
+  lt__heap_used(kd->ctx, &kd->node_heap, &used, &exhausted);
+  return used > 0 ? used - 1 : 0;
+}
+
+lt_status lt__kd_snapshot(lt__kd *kd, lt_kd_node **nodes, int *node_count, int **refs, int *ref_count) {
+  int exhausted;
+  *nodes = NULL, *refs = NULL;
+  lt_status status = lt__heap_used(kd->ctx, &kd->node_heap, node_count, &exhausted);
+  if (!status) status = lt__heap_used(kd->ctx, &kd->ref_heap, ref_count, &exhausted);
+  if (status) return status;
+  *nodes = malloc((size_t)(*node_count > 0 ? *node_count : 1) * sizeof **nodes);
+  *refs = malloc((size_t)(*ref_count > 0 ? *ref_count : 1) * sizeof **refs);
+  if (!*nodes || !*refs) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory copying a tree");
+  status = lt__buffer_read(kd->ctx, &kd->nodes, 0, (size_t)*node_count * sizeof **nodes, *nodes);
+  return status ? status : lt__buffer_read(kd->ctx, &kd->refs, 0, (size_t)*ref_count * 4, *refs);
+}
+
+double lt__kd_bytes(const lt__kd *kd, double *node_bytes, double *reference_bytes, double *pool_bytes) {
+  *node_bytes = (double)kd->nodes.bytes;
+  *reference_bytes = (double)kd->refs.bytes;
+  *pool_bytes = (double)(kd->pool.headers.bytes + kd->pool.tasks.bytes + kd->pool.empty_cache.bytes +
+                         kd->pool.priority_cache.bytes + kd->pool.control.bytes);
+  return *node_bytes + *reference_bytes + *pool_bytes;
+}

@@ -1,0 +1,163 @@
+/* The registry entry of the SAH kd-tree built through the task pool (runtime/kd_ondemand_host.c,
+ * kernels/kd_ondemand.h): fully, or on demand while the rays are traced (the on-demand paper,
+ * section 3.5: Kd-tree, Kd-tree_R, Kd-tree_A). */
+#include <stdint.h>
+#include <stdlib.h>
+
+#include "runtime/context_internal.h"
+#include "runtime/error.h"
+#include "runtime/kd_ondemand_host.h"
+#include "runtime/registry.h"
+#include "runtime/stats_internal.h"
+
+typedef struct kd_state {
+  lt__kd_config config;
+  lt__kd kd;
+  int live;          /* kd holds a tree */
+  int pool_capacity; /* each doubled when it fills up, and the build starts again */
+  int node_capacity;
+  int ref_capacity;
+} kd_state;
+
+/* The largest pool or heap a retry may ask for. */
+#define MAX_POOL (1 << 26)
+#define MAX_HEAP (INT32_MAX / 2)
+
+static lt_build_mode mode_of(const lt_structure *s) { return s->config.build; }
+
+/* (Re)creates the tree, and in a full build builds all of it. */
+static lt_status start(lt_structure *s, lt_stats *stats) {
+  kd_state *k = s->state;
+  if (k->live) lt__kd_release(&k->kd);
+  k->live = 0;
+  double begin = lt_now_ms(), compile = s->ctx->compile_ms;
+  int pool_mode = (int)mode_of(s) - LT_BUILD_FULL; /* LT_POOL_FULL, _REQUESTED, _SPECULATIVE */
+  lt_status status = lt__kd_create(s->ctx, s->scene, &k->config, pool_mode, k->pool_capacity, k->node_capacity,
+                                   k->ref_capacity, &k->kd);
+  if (!status) k->live = 1;
+  if (!status && mode_of(s) == LT_BUILD_FULL) status = lt__kd_launch(&k->kd, NULL, 0, 0, NULL, 0, stats);
+  lt__stats_add(stats, LT_STAT_BUILD_MS, lt_now_ms() - begin - (s->ctx->compile_ms - compile));
+  return status;
+}
+
+/* Whether another retry may grow what filled up. */
+static int may_grow(const kd_state *k) {
+  return k->pool_capacity < MAX_POOL && k->node_capacity < MAX_HEAP && k->ref_capacity < MAX_HEAP;
+}
+
+/* Starts again from scratch with twice the room of what filled up: the pool, the node heap or
+ * the reference heap. */
+static lt_status with_retry(lt_structure *s, lt_stats *stats, lt_status status) {
+  kd_state *k = s->state;
+  while (status == LT_ERROR_CAPACITY && may_grow(k)) {
+    int nodes_full = 0, refs_full = 0;
+    if (k->live) lt__kd_heaps_full(&k->kd, &nodes_full, &refs_full);
+    int *grow = nodes_full ? &k->node_capacity : refs_full ? &k->ref_capacity : &k->pool_capacity;
+    const char *what = nodes_full ? "a node heap" : refs_full ? "a reference heap" : "a pool";
+    if (!s->ctx->quiet) fprintf(stderr, "lazytrace: %s; retrying with %s of %d\n", lt_last_error(), what, 2 * *grow);
+    *grow *= 2;
+    status = start(s, stats);
+  }
+  return status;
+}
+
+static lt_status create(lt_structure *s, lt_stats *stats) {
+  kd_state *k = s->state;
+  size_t n = lt_scene_triangle_count(s->scene);
+  if (s->config.sah_bins > LT_MAX_BINS || s->config.sah_bins < 2)
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT, "--bins %d: the kd-tree takes 2 to %d SAH bins", s->config.sah_bins,
+                    LT_MAX_BINS);
+  if (n > (size_t)MAX_HEAP / 8)
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT, "the kd-tree takes at most %d triangles", MAX_HEAP / 8);
+  k->config.max_leaf = s->config.max_leaf_size, k->config.bins = s->config.sah_bins;
+  k->config.max_depth = lt__kd_max_depth(n);
+  k->config.traversal_cost = s->config.traversal_cost, k->config.intersection_cost = 1.0f;
+  int tiny = lt__structure_tiny_capacities;
+  size_t pool = n / 8 < 4096 ? 4096 : n / 8 > (1u << 22) ? (1u << 22) : n / 8;
+  k->pool_capacity = s->config.pool_capacity > 0 ? s->config.pool_capacity : tiny ? 4 : (int)pool;
+  /* Straddling triangles make more references than triangles: start from a few per triangle
+   * and a reference array per level (the heap never frees an inner cell's array). */
+  k->node_capacity = tiny ? 4 : (int)(4 * n + 16);
+  k->ref_capacity = tiny ? (int)n : (int)(8 * n + 1024);
+  return with_retry(s, stats, start(s, stats));
+}
+
+/* As the BVH: one launch builds what the rays need while tracing them (time to image); with
+ * statistics asked for, a second launch traces the same rays on the tree as built, which is
+ * the trace time, and build time is the difference. */
+static lt_status trace(lt_structure *s, const lt_ray *rays, int count, int flags, lt_hit *hits, lt_stats *stats) {
+  kd_state *k = s->state;
+  int speculate = mode_of(s) == LT_BUILD_SPECULATIVE;
+  double begin = lt_now_ms();
+  lt_status status = lt__kd_launch(&k->kd, rays, count, flags, hits, speculate, stats);
+  while (status == LT_ERROR_CAPACITY && may_grow(k)) {
+    status = with_retry(s, stats, status);
+    begin = lt_now_ms();
+    if (!status) status = lt__kd_launch(&k->kd, rays, count, flags, hits, speculate, stats);
+  }
+  double total = lt_now_ms() - begin;
+  if (status || !stats) return status;
+  if (mode_of(s) == LT_BUILD_FULL) {
+    lt__stats_add(stats, LT_STAT_TRACE_MS, total);
+    return LT_OK;
+  }
+  lt_stats *again;
+  if ((status = lt_stats_create(&again))) return status;
+  double retrace_start = lt_now_ms();
+  status = lt__kd_launch(&k->kd, rays, count, flags, hits, 0, again);
+  double retrace = lt_now_ms() - retrace_start;
+  lt_stats_destroy(again);
+  lt__stats_add(stats, LT_STAT_TRACE_MS, retrace);
+  lt__stats_add(stats, LT_STAT_BUILD_MS, total > retrace ? total - retrace : 0.0);
+  return status;
+}
+
+static void put_stats(lt_structure *s, lt_stats *stats) {
+  kd_state *k = s->state;
+  if (!k->live) return;
+  double nodes = lt__kd_nodes_built(&k->kd), node_bytes, ref_bytes, pool_bytes;
+  double memory = lt__kd_bytes(&k->kd, &node_bytes, &ref_bytes, &pool_bytes);
+  lt__stats_put(stats, LT_STAT_REFERENCES, k->kd.leaf_refs);
+  lt__stats_put(stats, LT_STAT_NODES_BUILT, nodes);
+  if (mode_of(s) == LT_BUILD_FULL) lt__stats_put(stats, LT_STAT_NODES_FULL, nodes);
+  lt__stats_put(stats, LT_STAT_MAX_DEPTH, k->kd.depth);
+  lt__stats_put(stats, LT_STAT_MEMORY_BYTES, memory);
+  lt__stats_put(stats, LT_STAT_NODE_BYTES, node_bytes);
+  lt__stats_put(stats, LT_STAT_REFERENCE_BYTES, ref_bytes);
+  lt__stats_put(stats, LT_STAT_POOL_BYTES, pool_bytes);
+}
+
+static void release(lt_structure *s) {
+  kd_state *k = s->state;
+  if (k->live) lt__kd_release(&k->kd);
+  k->live = 0;
+}
+
+lt__kd *lt__structure_kd(lt_structure *s) {
+  if (s->cls != &lt__structure_kdtree) return NULL;
+  kd_state *k = s->state;
+  return k->live ? &k->kd : NULL;
+}
+
+static const char *const kernels[] = {"lt_kd_ondemand", NULL};
+
+static const lt__param params[] = {
+    LT__PARAM_INT("--leaf-size", max_leaf_size, 1, 1 << 24, "most references a leaf holds without SAH asking"),
+    LT__PARAM_INT("--bins", sah_bins, 2, LT_MAX_BINS, "SAH bins per axis"),
+    {0, 0, 0, 0, 0, 0},
+};
+
+const lt__structure_class lt__structure_kdtree = {
+    .name = "kdtree",
+    .summary = "binned SAH kd-tree (Vinkler et al. 2016), built through the task pool in full or on demand",
+    .params = params,
+    .modes = 1u << LT_BUILD_FULL | 1u << LT_BUILD_REQUESTED | 1u << LT_BUILD_SPECULATIVE,
+    .defaults = {.kind = LT_STRUCTURE_KDTREE, .build = LT_BUILD_SPECULATIVE, .max_leaf_size = 16, .sah_bins = 32,
+                 .traversal_cost = 1.0f, .pool_capacity = 0, .intersect = LT_INTERSECT_WATERTIGHT, .grid_density = 3.0f},
+    .state_size = sizeof(kd_state),
+    .create = create,
+    .trace = trace,
+    .put_stats = put_stats,
+    .release = release,
+    .kernels = kernels,
+};
