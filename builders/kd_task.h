@@ -2,7 +2,8 @@
  * section 3.5. A task splits the cell behind one child link in one go, on one work-item:
  * binned SAH over all three axes (Wald and Havran 2006 price the planes the same way, with
  * every event instead of bins), a triangle straddling the plane referenced by both children,
- * the children's reference arrays taken from the device heap, then the node is written, its
+ * the left child's references compacted in place in the cell's array and the right child's
+ * taken from the device heap, then the node is written, its
  * children get tasks (or are made leaves at once when they are small) and it is linked into
  * its parent. The same code makes full, requested and speculative builds, so a node built on
  * demand has the split plane and references of the same node of the full tree.
@@ -226,25 +227,27 @@ LT_DEVICE void lt_kd_build_node(const lt_kd_build *b, lt_i32 slot) {
     right += lt_kd_goes_right(box.lo[axis], box.hi[axis], plane);
   }
   lt_i32 node = lt_heap_alloc(&b->node_heap, 1);
-  lt_i32 first = node < 0 ? -1 : lt_heap_alloc(&b->ref_heap, left + right);
-  if (node < 0 || first < 0) {
+  lt_i32 first_right = node < 0 ? -1 : right == 0 ? 0 : lt_heap_alloc(&b->ref_heap, right);
+  if (node < 0 || first_right < 0) {
     lt_pool_fail(&b->pool, LT_POOL_ERROR_HEAP);
     return;
   }
-  lt_i32 l = first, r = first + left;
+  /* The left side stays in the cell's own array, compacted in place (it never overtakes the
+   * read position); the right side goes to the new one. */
+  lt_i32 l = begin, r = first_right;
   for (lt_i32 i = begin; i < begin + n; i++) {
     lt_i32 prim = b->refs[i];
     lt_box box = lt_kd_prim_box(b, prim);
-    if (lt_kd_goes_left(box.lo[axis], box.hi[axis], plane)) b->refs[l++] = prim;
     if (lt_kd_goes_right(box.lo[axis], box.hi[axis], plane)) b->refs[r++] = prim;
+    if (lt_kd_goes_left(box.lo[axis], box.hi[axis], plane)) b->refs[l++] = prim;
   }
   lt_kd_count(b, LT_KD_STAT_SORT_OPS, (lt_u32)n);
 
   lt_kd_write_inner(&b->nodes[node], axis, plane, LT_KD_LINK_EMPTY, LT_KD_LINK_EMPTY);
   lt_box lcell = cell, rcell = cell;
   lcell.hi[axis] = plane, rcell.lo[axis] = plane;
-  lt_kd_spawn(b, node, 0, first, left, depth + 1, &lcell);
-  lt_kd_spawn(b, node, 1, first + left, right, depth + 1, &rcell);
+  lt_kd_spawn(b, node, 0, begin, left, depth + 1, &lcell);
+  lt_kd_spawn(b, node, 1, first_right, right, depth + 1, &rcell);
   lt_kd_publish_link(b->nodes, address, node);
   lt_pool_retire(&b->pool, slot);
 }

@@ -168,9 +168,12 @@ lt_status lt__kd_snapshot(lt__kd *kd, lt_kd_node **nodes, int *node_count, int *
   return status ? status : lt__buffer_read(kd->ctx, &kd->refs, 0, (size_t)*ref_count * 4, *refs);
 }
 
-double lt__kd_bytes(const lt__kd *kd, double *node_bytes, double *reference_bytes, double *pool_bytes) {
-  *node_bytes = (double)kd->nodes.bytes;
-  *reference_bytes = (double)kd->refs.bytes;
+double lt__kd_bytes(lt__kd *kd, double *node_bytes, double *reference_bytes, double *pool_bytes) {
+  int nodes = 0, refs = 0, exhausted;
+  lt__heap_used(kd->ctx, &kd->node_heap, &nodes, &exhausted);
+  lt__heap_used(kd->ctx, &kd->ref_heap, &refs, &exhausted);
+  *node_bytes = (double)nodes * sizeof(lt_kd_node);
+  *reference_bytes = (double)refs * 4.0;
   *pool_bytes = (double)(kd->pool.headers.bytes + kd->pool.tasks.bytes + kd->pool.empty_cache.bytes +
                          kd->pool.priority_cache.bytes + kd->pool.control.bytes);
   return *node_bytes + *reference_bytes + *pool_bytes;

@@ -46,7 +46,8 @@ double lt__kd_nodes_built(lt__kd *kd);
 lt_status lt__kd_snapshot(lt__kd *kd, lt_kd_node **nodes, int *node_count, int **refs, int *ref_count);
 /* The on-demand kd-tree behind a structure, or NULL (for tests). */
 lt__kd *lt__structure_kd(lt_structure *structure);
-/* Device bytes held: nodes, the reference heap, pool. */
-double lt__kd_bytes(const lt__kd *kd, double *node_bytes, double *reference_bytes, double *pool_bytes);
+/* Device bytes in use: nodes and references handed out by the heaps (references include the
+ * arrays of inner cells, which the heap does not free), and the pool. */
+double lt__kd_bytes(lt__kd *kd, double *node_bytes, double *reference_bytes, double *pool_bytes);
 
 #endif

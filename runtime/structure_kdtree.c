@@ -75,10 +75,13 @@ static lt_status create(lt_structure *s, lt_stats *stats) {
   int tiny = lt__structure_tiny_capacities;
   size_t pool = n / 8 < 4096 ? 4096 : n / 8 > (1u << 22) ? (1u << 22) : n / 8;
   k->pool_capacity = s->config.pool_capacity > 0 ? s->config.pool_capacity : tiny ? 4 : (int)pool;
-  /* Straddling triangles make more references than triangles: start from a few per triangle
-   * and a reference array per level (the heap never frees an inner cell's array). */
+  /* Straddling triangles make more references than triangles, and each level moves the right
+   * sides to new arrays (the heap never frees): a full build of the generators took up to
+   * about 0.7 * max_depth references per triangle. Untouched room costs no memory on the
+   * native backend. */
   k->node_capacity = tiny ? 4 : (int)(4 * n + 16);
-  k->ref_capacity = tiny ? (int)n : (int)(8 * n + 1024);
+  double refs = (double)n * (0.75 * k->config.max_depth + 2.0) + 1024.0;
+  k->ref_capacity = tiny ? (int)n : refs > MAX_HEAP / 2 ? MAX_HEAP / 2 : (int)refs;
   return with_retry(s, stats, start(s, stats));
 }
 
