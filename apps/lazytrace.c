@@ -17,7 +17,7 @@ static const char usage[] =
     "\n"
     "SCENE    a generator (house, house-row:N, house-grid:RxC, hairball:N, teapot-stadium,\n"
     "         sphere:LEVEL, cornell; add @outer or @close to pick the camera) or a mesh file\n"
-    "         (.obj read by lazytrace in file order; .ply, .gltf, .glb, ... through assimp)\n"
+    "         (.obj and .ply read by lazytrace in file order; .gltf, .glb, ... through assimp)\n"
     "         or a scene file (.json: meshes, instances, materials, lights, camera, image,\n"
     "         effects; see 'lazytrace help render')\n"
     "\n"

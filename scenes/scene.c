@@ -87,6 +87,7 @@ lt_status lt_scene_load(const char *spec, lt_scene **out) {
   /* A spec that names a file is read as a mesh; anything else is a generator. */
   if (looks_like_file(spec) && !strchr(spec, ':')) {
     status = has_suffix(spec, ".obj")    ? lt__load_obj(spec, scene)
+             : has_suffix(spec, ".ply")  ? lt__load_ply(spec, scene)
              : has_suffix(spec, ".json") ? lt__load_scene_file(spec, scene)
                                          : lt__load_assimp(spec, scene);
   } else {

@@ -179,7 +179,8 @@ static lt_status load_mesh(const reader *r, const cJSON *item, int index, lt_sce
       else snprintf(path, sizeof path, "%s%s", r->dir, file->valuestring);
       n = strlen(path);
       int obj = n >= 4 && (strcmp(path + n - 4, ".obj") == 0 || strcmp(path + n - 4, ".OBJ") == 0);
-      status = obj ? lt__load_obj(path, mesh) : lt__load_assimp(path, mesh);
+      int ply = n >= 4 && (strcmp(path + n - 4, ".ply") == 0 || strcmp(path + n - 4, ".PLY") == 0);
+      status = obj ? lt__load_obj(path, mesh) : ply ? lt__load_ply(path, mesh) : lt__load_assimp(path, mesh);
       if (status) status = wrap(r, key, status);
     }
   }

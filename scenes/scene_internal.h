@@ -50,9 +50,11 @@ lt_status lt__scene_add_camera(lt_scene *scene, const char *name, lt_camera came
  * LT_ERROR_UNKNOWN_GENERATOR for an unknown name, LT_ERROR_INVALID_ARGUMENT for bad args. */
 lt_status lt__generate(const char *name, const char *args, lt_scene *scene);
 
-/* Mesh readers. The OBJ reader is lazytrace's own, so triangle numbering follows the contract
- * (faces in file order, polygons fanned as (v0, vi, vi+1)) and errors name the line. */
+/* Mesh readers. The OBJ and PLY readers are lazytrace's own, so triangle numbering follows the
+ * contract (faces in file order, polygons fanned as (v0, vi, vi+1)) and errors name the line
+ * (or, in a binary PLY body, the element, item and byte offset). */
 lt_status lt__load_obj(const char *path, lt_scene *scene);
+lt_status lt__load_ply(const char *path, lt_scene *scene);
 /* Other formats through assimp. */
 lt_status lt__load_assimp(const char *path, lt_scene *scene);
 /* A scene file (.json): meshes placed by instances, materials, lights, camera, image, effects.

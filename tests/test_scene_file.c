@@ -92,6 +92,30 @@ static void scene_file_instances_transform_and_material(void **state) {
   lt_scene_destroy(scene);
 }
 
+/* A PLY mesh goes to lazytrace's own reader, as it does outside scene files: its triangle
+ * arrives as the file has it, and its errors keep their line. */
+static void scene_file_ply_mesh_is_read_by_lazytrace(void **state) {
+  (void)state;
+  static const char header[] = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                               "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                               "1 0 0\n0 1 0\n0 0 1\n";
+  char text[sizeof header + 16];
+  snprintf(text, sizeof text, "%s3 0 1 2\n", header);
+  lt_test_write_file("tri.ply", text);
+  lt_scene *scene = lt_test_load_ok(lt_test_write_file("ply.json", "{\"meshes\": [{\"file\": \"tri.ply\"}]}"));
+  assert_int_equal(lt_scene_triangle_count(scene), 1);
+  static const float expected[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  for (int k = 0; k < 9; k++) assert_true(lt_scene_triangles(scene)[k] == expected[k]);
+  lt_scene_destroy(scene);
+
+  snprintf(text, sizeof text, "%s3 0 1 3\n", header);
+  lt_test_write_file("bad.ply", text);
+  const char *path = lt_test_write_file("bad_ply.json", "{\"meshes\": [{\"file\": \"bad.ply\"}]}");
+  assert_int_equal(lt_scene_load(path, &scene), LT_ERROR_PARSE);
+  assert_non_null(strstr(lt_last_error(), "meshes[0].file: "));
+  assert_non_null(strstr(lt_last_error(), "bad.ply:13: face 0: vertex index 3 out of range (3 vertices)"));
+}
+
 /* Without instances every mesh is placed once; without materials one grey diffuse material;
  * without a camera the generator's outer camera; without effects primary rays only. */
 static void scene_file_missing_sections_take_defaults(void **state) {
@@ -221,6 +245,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(scene_file_issue_example_parses_every_key),
       cmocka_unit_test(scene_file_instances_transform_and_material),
+      cmocka_unit_test(scene_file_ply_mesh_is_read_by_lazytrace),
       cmocka_unit_test(scene_file_missing_sections_take_defaults),
       cmocka_unit_test(scene_file_generators_have_default_description),
       cmocka_unit_test(scene_file_effects_true_and_false),

@@ -1,6 +1,6 @@
 /* Fuzz targets of the readers lt_scene_load picks by extension: built once per extension
- * (LT_FUZZ_SUFFIX: ".obj" for lazytrace's own OBJ reader, ".ply" for the assimp path, ".json"
- * for scene files; tests/CMakeLists.txt). */
+ * (LT_FUZZ_SUFFIX: ".obj" and ".ply" for lazytrace's own OBJ and PLY readers, ".json" for
+ * scene files; tests/CMakeLists.txt). */
 #include <unistd.h>
 
 #include "lazytrace.h"
