@@ -4,8 +4,12 @@
  *   bench_ondemand table  [--runs R] [--size N] [--ao S] SCENE...   Table 1: time to image
  *   bench_ondemand sweep  [--runs R] [--size N] [--max M]           Figure 5: house-row:1..M
  *   bench_ondemand collide [--runs R] SCENE...                      Table 4: collision rays
+ *   bench_ondemand steps  [--size N] SCENE...                       Table 3: steps per ray
  *
- * Methods: the SAH BVH built in full, requested and speculative modes, the LBVH, Embree.
+ * Methods: the SAH BVH built in full, requested and speculative modes, the LBVH, Embree; with
+ * --kd, table and sweep measure the kd-tree in the three modes instead (the paper's Table 2
+ * and Figure 5 for kd-trees), beside the full and speculative BVH and Embree; collide always
+ * measures both.
  * Every figure is the median of R runs (methods interleaved run by run); the lazytrace hits
  * are checked against the full build's. Markdown goes to stdout, CSV to --csv FILE. */
 #include <math.h>
@@ -23,7 +27,13 @@
 #define MAX_RUNS 16
 #define METHODS LT_BENCH_METHODS
 enum { FULL = LT_BENCH_FULL, REQUESTED = LT_BENCH_REQUESTED, SPECULATIVE = LT_BENCH_SPECULATIVE, LBVH = LT_BENCH_LBVH,
+       KD_FULL = LT_BENCH_KD_FULL, KD_REQUESTED = LT_BENCH_KD_REQUESTED, KD_SPECULATIVE = LT_BENCH_KD_SPECULATIVE,
        EMBREE = LT_BENCH_EMBREE };
+
+/* Which methods an experiment runs (bits 1 << method). */
+#define BVH_METHODS (1u << FULL | 1u << REQUESTED | 1u << SPECULATIVE | 1u << LBVH | 1u << EMBREE)
+#define KD_METHODS (1u << KD_FULL | 1u << KD_REQUESTED | 1u << KD_SPECULATIVE | 1u << FULL | 1u << SPECULATIVE | 1u << EMBREE)
+static unsigned methods_run = BVH_METHODS;
 
 typedef struct figures {
   double total[MAX_RUNS], build[MAX_RUNS], trace[MAX_RUNS];
@@ -96,6 +106,7 @@ static int run_all(const lt_scene *scene, const batch *batches, int nbatches, in
   memset(f, 0, METHODS * sizeof *f);
   for (int run = 0; run < runs; run++)
     for (int m = 0; m < METHODS; m++) {
+      if (!(methods_run & 1u << m)) continue;
       if (run_method(scene, m, batches, nbatches, run, &f[m], m == FULL ? ref : hits) != 0) continue;
       int closest = !batches[nbatches - 1].any;
       if (m != FULL && m != EMBREE && closest)
@@ -131,10 +142,33 @@ static void print_row(const char *label, size_t rays, const figures *f, int runs
   printf(" %.1f%% |\n", 100.0 * f[REQUESTED].nodes / f[FULL].nodes);
 }
 
+/* The paper's Table 2 row: the full kd-tree's time to image, build, trace and sort operations,
+ * the on-demand ones relative to it, and the BVH and Embree beside them. */
+static void print_kd_row(const char *label, size_t rays, const figures *f, int runs) {
+  double full = lt_bench_median(f[KD_FULL].total, runs);
+  printf("| %s | %.2fM | %.0f | %.0f | %.0f | %.1f |", label, rays / 1e6, full, lt_bench_median(f[KD_FULL].build, runs),
+         lt_bench_median(f[KD_FULL].trace, runs), f[KD_FULL].sort_ops / 1e6);
+  for (int m = KD_REQUESTED; m <= KD_SPECULATIVE; m++)
+    printf(" %+.0f%% / %+.0f%% / %+.0f%% |", 100.0 * (lt_bench_median(f[m].total, runs) / full - 1),
+           100.0 * (lt_bench_median(f[m].trace, runs) / lt_bench_median(f[KD_FULL].trace, runs) - 1),
+           100.0 * (f[m].sort_ops / f[KD_FULL].sort_ops - 1));
+  double kd_a = lt_bench_median(f[KD_SPECULATIVE].total, runs), bvh_a = lt_bench_median(f[SPECULATIVE].total, runs);
+  printf(" %.0f | %.0f | %.0f | %.2f | %.2f | %.2f |\n", lt_bench_median(f[FULL].total, runs), bvh_a,
+         f[EMBREE].ok ? lt_bench_median(f[EMBREE].total, runs) : -1.0, kd_a / full, kd_a / bvh_a,
+         f[EMBREE].ok ? kd_a / lt_bench_median(f[EMBREE].total, runs) : -1.0);
+}
+
 static int table(int argc, char **argv, int runs, int size, int ao, FILE *csv) {
-  printf("| scene@camera, workload | rays | full | requested | speculative | LBVH | Embree | req/full | spec/full |"
-         " best on-demand / Embree | nodes requested / full |\n");
-  printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  if (methods_run == KD_METHODS) {
+    printf("| scene@camera, workload | rays | Kd image ms | Kd build ms | Kd trace ms | Kd sort ops (M) |"
+           " Kd_R: image / trace / sort ops vs Kd | Kd_A: image / trace / sort ops vs Kd | BVH ms | BVH_A ms |"
+           " Embree ms | Kd_A / Kd | Kd_A / BVH_A | Kd_A / Embree |\n");
+    printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  } else {
+    printf("| scene@camera, workload | rays | full | requested | speculative | LBVH | Embree | req/full | spec/full |"
+           " best on-demand / Embree | nodes requested / full |\n");
+    printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  }
   for (int i = 0; i < argc; i++)
     for (int c = 0; c < 2; c++) {
       const char *camera = c ? "close" : "outer";
@@ -155,7 +189,8 @@ static int table(int argc, char **argv, int runs, int size, int ao, FILE *csv) {
       if (run_all(scene, batches, 1, runs, f)) return 1;
       char label[300];
       snprintf(label, sizeof label, "%s, primary", spec);
-      print_row(label, n, f, runs);
+      if (methods_run == KD_METHODS) print_kd_row(label, n, f, runs);
+      else print_row(label, n, f, runs);
       csv_row(csv, argv[i], camera, "primary", f, runs);
 
       lt_structure *full;
@@ -170,7 +205,8 @@ static int table(int argc, char **argv, int runs, int size, int ao, FILE *csv) {
       batches[1].count = lt_ao_rays(scene, primary, hits, n, ao, 0.05f * diag, 1, ao_rays);
       if (run_all(scene, batches, 2, runs, f)) return 1;
       snprintf(label, sizeof label, "%s, primary + %d AO", spec, ao);
-      print_row(label, n + batches[1].count, f, runs);
+      if (methods_run == KD_METHODS) print_kd_row(label, n + batches[1].count, f, runs);
+      else print_row(label, n + batches[1].count, f, runs);
       csv_row(csv, argv[i], camera, "primary+ao", f, runs);
       free(primary), free(ao_rays), free(hits);
       lt_scene_destroy(scene);
@@ -179,8 +215,12 @@ static int table(int argc, char **argv, int runs, int size, int ao, FILE *csv) {
 }
 
 static int sweep(int runs, int size, int max, FILE *csv) {
-  printf("| houses | triangles | nodes full | nodes requested | nodes speculative | full ms | requested ms |"
-         " speculative ms | LBVH ms | Embree ms |\n|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  if (methods_run == KD_METHODS)
+    printf("| houses | triangles | kd nodes full | kd nodes requested | kd nodes speculative | Kd ms | Kd_R ms |"
+           " Kd_A ms | BVH (full) ms | Embree ms |\n|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  else
+    printf("| houses | triangles | nodes full | nodes requested | nodes speculative | full ms | requested ms |"
+           " speculative ms | LBVH ms | Embree ms |\n|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   int counts[] = {1, 2, 4, 6, 8, 12, 16, 24, 32};
   for (int i = 0; i < 9 && counts[i] <= max; i++) {
     char spec[64];
@@ -195,6 +235,15 @@ static int sweep(int runs, int size, int max, FILE *csv) {
     batch b = {rays, n, 0};
     figures f[METHODS];
     if (run_all(scene, &b, 1, runs, f)) return 1;
+    if (methods_run == KD_METHODS) {
+      /* The kd-tree's columns in the BVH's places, the full BVH where the LBVH was. */
+      f[FULL].nodes = f[KD_FULL].nodes, f[REQUESTED].nodes = f[KD_REQUESTED].nodes;
+      f[SPECULATIVE].nodes = f[KD_SPECULATIVE].nodes;
+      memcpy(f[LBVH].total, f[FULL].total, sizeof f[LBVH].total);
+      memcpy(f[FULL].total, f[KD_FULL].total, sizeof f[FULL].total);
+      memcpy(f[REQUESTED].total, f[KD_REQUESTED].total, sizeof f[REQUESTED].total);
+      memcpy(f[SPECULATIVE].total, f[KD_SPECULATIVE].total, sizeof f[SPECULATIVE].total);
+    }
     printf("| %d | %zu | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f |\n", counts[i],
            lt_scene_triangle_count(scene), f[FULL].nodes, f[REQUESTED].nodes, f[SPECULATIVE].nodes,
            lt_bench_median(f[FULL].total, runs), lt_bench_median(f[REQUESTED].total, runs), lt_bench_median(f[SPECULATIVE].total, runs),
@@ -213,8 +262,9 @@ static int sweep(int runs, int size, int max, FILE *csv) {
 /* Table 4: every frame rebuilds from scratch and traces 800 short rays. */
 static int collide(int argc, char **argv, int runs, FILE *csv) {
   const int agents = 100, per_agent = 8, frames = 20;
-  printf("| scene | triangles | full ms | requested ms | speculative ms | LBVH ms | Embree ms | best on-demand / full |"
-         " best on-demand / LBVH | nodes requested per frame |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  printf("| scene | triangles | full ms | requested ms | speculative ms | LBVH ms | Kd ms | Kd_R ms | Kd_A ms | Embree ms |"
+         " best on-demand BVH / full | best on-demand BVH / LBVH | best on-demand Kd / Kd | best on-demand Kd / LBVH |"
+         " nodes requested per frame (BVH, Kd) |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int i = 0; i < argc; i++) {
     lt_scene *scene;
     if (lt_scene_load(argv[i], &scene) != LT_OK) return fprintf(stderr, "%s\n", lt_last_error()), 1;
@@ -227,6 +277,7 @@ static int collide(int argc, char **argv, int runs, FILE *csv) {
     memset(f, 0, sizeof f);
     for (int run = 0; run < runs; run++)
       for (int m = 0; m < METHODS; m++) {
+        if (!(methods_run & 1u << m)) continue;
         figures frame;
         double total = 0, nodes = 0;
         int failed = 0;
@@ -244,12 +295,53 @@ static int collide(int argc, char **argv, int runs, FILE *csv) {
     double full = lt_bench_median(f[FULL].total, runs), req = lt_bench_median(f[REQUESTED].total, runs);
     double spec = lt_bench_median(f[SPECULATIVE].total, runs), best = req < spec ? req : spec;
     double lbvh = lt_bench_median(f[LBVH].total, runs), embree = f[EMBREE].ok ? lt_bench_median(f[EMBREE].total, runs) : -1;
-    printf("| %s | %zu | %.0f | %.0f | %.0f | %.0f | %.0f | %.2f | %.2f | %.0f |\n", argv[i],
-           lt_scene_triangle_count(scene), full, req, spec, lbvh, embree, best / full, best / lbvh, f[REQUESTED].nodes);
-    if (csv) fprintf(csv, "%s,%.2f,%.2f,%.2f,%.2f,%.2f\n", argv[i], full, req, spec, lbvh, embree);
+    double kd = lt_bench_median(f[KD_FULL].total, runs), kd_r = lt_bench_median(f[KD_REQUESTED].total, runs);
+    double kd_a = lt_bench_median(f[KD_SPECULATIVE].total, runs), kd_best = kd_r < kd_a ? kd_r : kd_a;
+    printf("| %s | %zu | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | %.2f | %.2f | %.2f | %.2f | %.0f, %.0f |\n",
+           argv[i], lt_scene_triangle_count(scene), full, req, spec, lbvh, kd, kd_r, kd_a, embree, best / full, best / lbvh,
+           kd_best / kd, kd_best / lbvh, f[REQUESTED].nodes, f[KD_REQUESTED].nodes);
+    if (csv)
+      fprintf(csv, "%s,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f\n", argv[i], full, req, spec, lbvh, kd, kd_r, kd_a, embree);
     free(paths), free(rays), free(hits);
     lt_scene_destroy(scene);
   }
+  return 0;
+}
+
+/* Table 3: traversal steps and triangle tests per primary ray on fully built trees. */
+static int steps(int argc, char **argv, int size) {
+  static const lt_structure_kind kinds[] = {LT_STRUCTURE_LBVH, LT_STRUCTURE_BVH, LT_STRUCTURE_KDTREE};
+  printf("| scene@camera | LBVH steps | LBVH tests | BVH steps | BVH tests | kd-tree steps | kd-tree tests |\n"
+         "|---|---:|---:|---:|---:|---:|---:|\n");
+  for (int i = 0; i < argc; i++)
+    for (int c = 0; c < 2; c++) {
+      char spec[256];
+      snprintf(spec, sizeof spec, "%s@%s", argv[i], c ? "close" : "outer");
+      lt_scene *scene;
+      if (lt_scene_load(spec, &scene) != LT_OK) return fprintf(stderr, "%s\n", lt_last_error()), 1;
+      size_t n = (size_t)size * size;
+      lt_ray *rays = malloc(n * sizeof *rays);
+      lt_hit *hits = malloc(n * sizeof *hits);
+      lt_camera cam = lt_scene_camera(scene);
+      lt_camera_primary_rays(&cam, size, size, rays);
+      printf("| %s |", spec);
+      for (int k = 0; k < 3; k++) {
+        lt_structure_config config = lt_structure_config_default(kinds[k]);
+        config.build = LT_BUILD_FULL;
+        lt_stats *stats;
+        lt_structure *s = NULL;
+        lt_stats_create(&stats);
+        lt_status status = lt_structure_create(native_context(), scene, &config, NULL, &s);
+        if (!status) status = lt_structure_trace(s, rays, n, LT_QUERY_CLOSEST, hits, stats);
+        if (status) return fprintf(stderr, "%s\n", lt_last_error()), 1;
+        printf(" %.1f | %.1f |", lt_stats_get(stats, "traversal_steps") / n, lt_stats_get(stats, "intersections") / n);
+        lt_structure_destroy(s);
+        lt_stats_destroy(stats);
+      }
+      printf("\n");
+      free(rays), free(hits);
+      lt_scene_destroy(scene);
+    }
   return 0;
 }
 
@@ -264,6 +356,7 @@ int main(int argc, char **argv) {
     else if (strcmp(argv[i], "--ao") == 0 && i + 1 < argc) ao = atoi(argv[++i]);
     else if (strcmp(argv[i], "--max") == 0 && i + 1 < argc) max = atoi(argv[++i]);
     else if (strcmp(argv[i], "--csv") == 0 && i + 1 < argc) csv_path = argv[++i];
+    else if (strcmp(argv[i], "--kd") == 0) methods_run = KD_METHODS;
     else if (argv[i][0] != '-' && nscenes < 64) scenes[nscenes++] = argv[i];
     else return fprintf(stderr, "bench_ondemand: unknown option %s\n", argv[i]), 2;
   }
@@ -273,7 +366,8 @@ int main(int argc, char **argv) {
   int rc;
   if (strcmp(argv[1], "table") == 0) rc = table(nscenes, scenes, runs, size, ao, csv);
   else if (strcmp(argv[1], "sweep") == 0) rc = sweep(runs, size, max, csv);
-  else if (strcmp(argv[1], "collide") == 0) rc = collide(nscenes, scenes, runs, csv);
+  else if (strcmp(argv[1], "collide") == 0) rc = (methods_run = BVH_METHODS | KD_METHODS, collide(nscenes, scenes, runs, csv));
+  else if (strcmp(argv[1], "steps") == 0) rc = steps(nscenes, scenes, size);
   else rc = (fprintf(stderr, "bench_ondemand: unknown experiment %s\n", argv[1]), 2);
   if (csv) fclose(csv);
   return rc;

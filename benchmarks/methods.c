@@ -1,13 +1,17 @@
 /* The methods the benchmarks compare (methods.h). */
 #include "benchmarks/methods.h"
 
-const char *const lt_bench_method_names[LT_BENCH_METHODS] = {"full", "requested", "speculative", "lbvh", "embree"};
+const char *const lt_bench_method_names[LT_BENCH_METHODS] = {
+    "full", "requested", "speculative", "lbvh", "kd-full", "kd-requested", "kd-speculative", "embree"};
 
 lt_structure_config lt_bench_method_config(int method) {
-  lt_build_mode build = method == LT_BENCH_REQUESTED     ? LT_BUILD_REQUESTED
-                        : method == LT_BENCH_SPECULATIVE ? LT_BUILD_SPECULATIVE
-                                                         : LT_BUILD_FULL;
-  lt_structure_config config = lt_structure_config_default(method == LT_BENCH_LBVH ? LT_STRUCTURE_LBVH : LT_STRUCTURE_BVH);
+  int kd = method >= LT_BENCH_KD_FULL && method <= LT_BENCH_KD_SPECULATIVE;
+  int mode = kd ? method - LT_BENCH_KD_FULL : method;
+  lt_build_mode build = mode == LT_BENCH_REQUESTED     ? LT_BUILD_REQUESTED
+                        : mode == LT_BENCH_SPECULATIVE ? LT_BUILD_SPECULATIVE
+                                                       : LT_BUILD_FULL;
+  lt_structure_kind kind = kd ? LT_STRUCTURE_KDTREE : method == LT_BENCH_LBVH ? LT_STRUCTURE_LBVH : LT_STRUCTURE_BVH;
+  lt_structure_config config = lt_structure_config_default(kind);
   config.build = build;
   return config;
 }

@@ -1,11 +1,21 @@
 /* The methods the benchmarks compare: the SAH BVH built in full, on request or speculatively,
- * the LBVH, and (where a benchmark has it) Embree. */
+ * the LBVH, the SAH kd-tree in the same three modes, and (where a benchmark has it) Embree. */
 #ifndef LT_BENCH_METHODS_H
 #define LT_BENCH_METHODS_H
 
 #include "lazytrace.h"
 
-enum { LT_BENCH_FULL, LT_BENCH_REQUESTED, LT_BENCH_SPECULATIVE, LT_BENCH_LBVH, LT_BENCH_EMBREE, LT_BENCH_METHODS };
+enum {
+  LT_BENCH_FULL,
+  LT_BENCH_REQUESTED,
+  LT_BENCH_SPECULATIVE,
+  LT_BENCH_LBVH,
+  LT_BENCH_KD_FULL,
+  LT_BENCH_KD_REQUESTED,
+  LT_BENCH_KD_SPECULATIVE,
+  LT_BENCH_EMBREE,
+  LT_BENCH_METHODS
+};
 
 extern const char *const lt_bench_method_names[LT_BENCH_METHODS];
 

@@ -152,10 +152,13 @@ LT_DEVICE int lt_kd_advance(const lt_kd_view *v, lt_kd_ray *q, int flags, lt_tra
       continue;
     }
     c->traversal_steps++;
-    lt_kd_node n = nodes[link];
-    int axis = lt_kd_axis(n.meta);
+    /* A node's own fields never change once it is linked; its links may (they are read
+     * through lt_kd_read_link), so the node is not copied whole. */
+    LT_GLOBAL const lt_kd_node *n = &nodes[link];
+    lt_i32 meta = n->meta;
+    int axis = lt_kd_axis(meta);
     if (axis == LT_KD_LEAF_AXIS) {
-      lt_kd_leaf(v, r, &hit, n.link[0], lt_kd_leaf_count(n.meta), c);
+      lt_kd_leaf(v, r, &hit, n->link[0], lt_kd_leaf_count(meta), c);
       cur.address = -1;
       continue;
     }
@@ -163,7 +166,7 @@ LT_DEVICE int lt_kd_advance(const lt_kd_view *v, lt_kd_ray *q, int flags, lt_tra
     /* An inner cell. Along the ray, the child below the plane comes first when the ray runs
      * up the axis (up to the plane's distance), the one above first when it runs down; a
      * ray parallel to the plane stays on its origin's side, or in the plane, in both. */
-    float p = n.split, o = r->org[axis], d = r->dir[axis];
+    float p = n->split, o = r->org[axis], d = r->dir[axis];
     int first_side = d > 0.0f ? 0 : 1;
     int visit_first = 1, visit_second = 1;
     float t_split = cur.t_near, margin = 0.0f;
