@@ -346,6 +346,7 @@ static int steps(int argc, char **argv, int size) {
 }
 
 int main(int argc, char **argv) {
+  setvbuf(stdout, NULL, _IOLBF, 0); /* rows as they are measured: a long run stopped keeps them */
   if (argc < 2) return fprintf(stderr, "usage: bench_ondemand table|sweep|collide [options] [SCENE...]\n"), 2;
   int runs = 3, size = 1024, ao = 8, max = 16, nscenes = 0;
   const char *csv_path = NULL;

@@ -24,6 +24,11 @@
 #define LT_KD_MAX_DEPTH 44
 #define LT_KD_STACK_SIZE (LT_KD_MAX_DEPTH + 1)
 
+/* The traversals a kernel may run (traversal/kd_traverse.h, traversal/kd_stackless.h). */
+#define LT_KD_TRAVERSE_STACK 0
+#define LT_KD_TRAVERSE_RESTART 1
+#define LT_KD_TRAVERSE_BACKTRACK 2
+
 #define LT_KD_LEAF_AXIS 3
 #define LT_KD_LINK_EMPTY (-1)
 

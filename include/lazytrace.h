@@ -215,7 +215,19 @@ typedef struct lt_structure_config {
   lt_intersect_kind intersect; /* default (0) WATERTIGHT */
   float grid_density;     /* grid: cells along the longest axis per cube root of the triangle
                              count; default 3 (Thrane and Simonsen) */
+  int kd_traversal;       /* kd-tree: LT_KD_TRAVERSAL_*; default STACK */
+  int kd_split;           /* kd-tree: LT_KD_SPLIT_*; default BINNED */
+  int kd_clip;            /* kd-tree: LT_KD_CLIP_*; default OFF */
 } lt_structure_config;
+
+/* The kd-tree's choices (0 in a config: the default). Traversal: front to back with a stack, or
+ * without one (Foley and Sugerman 2005), restarting from the root or backtracking through
+ * parent links, on a fully built tree. Split search: 32 bins, or an exact sweep over the sorted
+ * box ends of cells of up to 1024 references (bins above). Clipping: classify triangles by
+ * their boxes, or by the box of the part inside the cell ("perfect splits"). */
+enum { LT_KD_TRAVERSAL_STACK = 1, LT_KD_TRAVERSAL_RESTART, LT_KD_TRAVERSAL_BACKTRACK };
+enum { LT_KD_SPLIT_BINNED = 1, LT_KD_SPLIT_SWEEP };
+enum { LT_KD_CLIP_OFF = 1, LT_KD_CLIP_ON };
 
 /* The defaults of a structure, every field filled in. */
 lt_structure_config lt_structure_config_default(lt_structure_kind kind);

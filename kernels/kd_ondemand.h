@@ -7,7 +7,7 @@
 
 #include "builders/kd_task.h"
 #include "device/kernel_args.h"
-#include "traversal/kd_traverse.h"
+#include "traversal/kd_stackless.h"
 
 /* Rays a work-item takes at a time. */
 #define LT_KD_RAYS_PER_ITEM 64
@@ -23,9 +23,11 @@ typedef struct lt_kd_args {
   lt_i32 flags;     /* query flags (LT_QUERY_FLAG_*) */
   lt_i32 max_idle_polls;
   lt_i32 speculate; /* whether work-groups out of rays build what nobody asked for */
+  lt_i32 traversal; /* LT_KD_TRAVERSE_*: the stackless ones on a finished tree only */
   lt_i32 prim_count;
   lt_float4 root_lo, root_hi; /* the scene's bounds: the root cell */
 } lt_kd_args;
+
 
 /* The kernel's arguments, in order (device/kernel_args.h). */
 #define LT_KD_ARGS(X)                            \
@@ -36,6 +38,7 @@ typedef struct lt_kd_args {
   X(VAL, lt_i32, flags, flags)                   \
   X(VAL, lt_i32, max_idle_polls, max_idle_polls) \
   X(VAL, lt_i32, speculate, speculate)           \
+  X(VAL, lt_i32, traversal, traversal)           \
   X(VAL, lt_i32, prim_count, prim_count)         \
   X(VAL, lt_float4, root_lo, root_lo)            \
   X(VAL, lt_float4, root_hi, root_hi)
@@ -50,6 +53,7 @@ LT_DEVICE lt_box lt_kd_root_cell(const lt_kd_args *a) {
 LT_DEVICE lt_kd_view lt_kd_args_view(const lt_kd_args *a) {
   lt_kd_view v;
   v.nodes = a->build.nodes, v.refs = a->build.refs, v.verts = a->build.verts;
+  v.parents = a->build.parents, v.cells = a->build.cells;
   v.pool = &a->build.pool;
   v.bounds = lt_kd_root_cell(a);
   return v;
@@ -62,7 +66,9 @@ LT_DEVICE void lt_kd_start(const lt_kd_args *a, lt_kd_ray *q, lt_i32 i) {
 
 LT_DEVICE int lt_kd_args_advance(const lt_kd_args *a, lt_kd_ray *q, lt_trace_counters *c) {
   lt_kd_view v = lt_kd_args_view(a);
-  return lt_kd_advance(&v, q, a->flags, c);
+  if (a->traversal == LT_KD_TRAVERSE_STACK) return lt_kd_advance(&v, q, a->flags, c);
+  lt_kd_advance_stackless(&v, q, a->flags, a->traversal == LT_KD_TRAVERSE_BACKTRACK, c);
+  return 1;
 }
 
 LT_DEVICE void lt_kd_flush(const lt_kd_args *a, const lt_trace_counters *c) {

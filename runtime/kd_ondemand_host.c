@@ -50,6 +50,8 @@ lt_status lt__kd_create(lt_context *ctx, const lt_scene *scene, const lt__kd_con
   if (!status)
     status = lt__buffer_create(ctx, &kd->nodes, (size_t)node_capacity * sizeof(lt_kd_node), NULL, LT_BUFFER_UNINIT);
   if (!status) status = lt__buffer_create(ctx, &kd->refs, (size_t)ref_capacity * 4, NULL, LT_BUFFER_UNINIT);
+  if (!status) status = lt__buffer_create(ctx, &kd->parents, (size_t)node_capacity * 4, NULL, LT_BUFFER_UNINIT);
+  if (!status) status = lt__buffer_create(ctx, &kd->cells, (size_t)node_capacity * 24, NULL, LT_BUFFER_UNINIT);
   if (!status)
     status = lt__buffer_create(ctx, &kd->counters, (size_t)ctx->work_groups * LT_KD_STAT_COUNT * 4, NULL, 0);
 
@@ -69,7 +71,7 @@ void lt__kd_release(lt__kd *kd) {
   lt__pool_release(&kd->pool);
   lt__heap_release(&kd->node_heap);
   lt__heap_release(&kd->ref_heap);
-  lt__buffer *buffers[] = {&kd->verts, &kd->nodes, &kd->refs, &kd->counters};
+  lt__buffer *buffers[] = {&kd->verts, &kd->nodes, &kd->refs, &kd->parents, &kd->cells, &kd->counters};
   for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++) lt__buffer_release(buffers[i]);
 }
 
@@ -82,6 +84,8 @@ static lt_status launch(lt__kd *kd, lt__buffer *rays, lt__buffer *hits, int coun
   LT__HEAP_HOST_ARGS(&args, node_heap, &kd->node_heap);
   LT__HEAP_HOST_ARGS(&args, ref_heap, &kd->ref_heap);
   args.verts = &kd->verts, args.nodes = &kd->nodes, args.refs = &kd->refs, args.counters = &kd->counters;
+  args.parents = &kd->parents, args.cells = &kd->cells;
+  args.sweep = kd->config.sweep, args.clip = kd->config.clip, args.traversal = kd->config.traversal;
   args.task_kind = 0; /* the kernel numbers its own task kinds */
   args.max_leaf = kd->config.max_leaf, args.bins = kd->config.bins, args.max_depth = kd->config.max_depth;
   args.traversal_cost = kd->config.traversal_cost, args.intersection_cost = kd->config.intersection_cost;
@@ -172,9 +176,44 @@ double lt__kd_bytes(lt__kd *kd, double *node_bytes, double *reference_bytes, dou
   int nodes = 0, refs = 0, exhausted;
   lt__heap_used(kd->ctx, &kd->node_heap, &nodes, &exhausted);
   lt__heap_used(kd->ctx, &kd->ref_heap, &refs, &exhausted);
-  *node_bytes = (double)nodes * sizeof(lt_kd_node);
+  *node_bytes = (double)nodes * (sizeof(lt_kd_node) + 4 + 24); /* with parent links and cells */
   *reference_bytes = (double)refs * 4.0;
   *pool_bytes = (double)(kd->pool.headers.bytes + kd->pool.tasks.bytes + kd->pool.empty_cache.bytes +
                          kd->pool.priority_cache.bytes + kd->pool.control.bytes);
   return *node_bytes + *reference_bytes + *pool_bytes;
+}
+
+/* The surface area of a cell stored as lo xyz hi xyz. */
+static double cell_area(const float *c) {
+  double x = c[3] - c[0], y = c[4] - c[1], z = c[5] - c[2];
+  return 2.0 * (x * y + y * z + z * x);
+}
+
+lt_status lt__kd_sah_cost(lt__kd *kd, double *cost) {
+  int count, exhausted;
+  *cost = NAN;
+  lt_status status = lt__heap_used(kd->ctx, &kd->node_heap, &count, &exhausted);
+  if (status || count < 2) return status;
+  lt_kd_node *nodes = malloc((size_t)count * sizeof *nodes);
+  float *cells = malloc((size_t)count * 24);
+  if (!nodes || !cells) {
+    free(nodes), free(cells);
+    return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory reading a kd-tree");
+  }
+  status = lt__buffer_read(kd->ctx, &kd->nodes, 0, (size_t)count * sizeof *nodes, nodes);
+  if (!status) status = lt__buffer_read(kd->ctx, &kd->cells, 0, (size_t)count * 24, cells);
+  if (!status) {
+    /* Every node but the super-root: inner cells cost a step, leaves a test per reference. */
+    double root = cell_area(cells + 6), sum = 0;
+    for (int i = 1; i < count && root > 0; i++) {
+      double a = cell_area(cells + 6 * (size_t)i) / root;
+      if (lt_kd_axis(nodes[i].meta) == LT_KD_LEAF_AXIS)
+        sum += kd->config.intersection_cost * lt_kd_leaf_count(nodes[i].meta) * a;
+      else
+        sum += kd->config.traversal_cost * a;
+    }
+    *cost = sum;
+  }
+  free(nodes), free(cells);
+  return status;
 }

@@ -10,6 +10,8 @@
 
 typedef struct lt__kd_config {
   int max_leaf, bins, max_depth;
+  int sweep, clip; /* the exact split sweep, split clipping */
+  int traversal;   /* LT_KD_TRAVERSE_* (kernels/kd_ondemand.h) */
   float traversal_cost, intersection_cost;
 } lt__kd_config;
 
@@ -17,7 +19,7 @@ typedef struct lt__kd {
   lt_context *ctx;
   lt__pool pool;
   lt__heap node_heap, ref_heap;
-  lt__buffer verts, nodes, refs, counters;
+  lt__buffer verts, nodes, refs, parents, cells, counters;
   int count;          /* triangles */
   lt_box bounds;      /* the scene's: the root cell */
   lt__kd_config config;
@@ -44,6 +46,10 @@ double lt__kd_nodes_built(lt__kd *kd);
 /* Copies the node array and the reference heap (for tests that compare trees); the caller
  * frees both. */
 lt_status lt__kd_snapshot(lt__kd *kd, lt_kd_node **nodes, int *node_count, int **refs, int *ref_count);
+/* The SAH cost of the tree as built (for a full build, the tree's): the surface-area-weighted
+ * sum over its cells, a traversal cost per inner cell and an intersection cost per reference
+ * in a leaf, relative to the root cell; NaN for a tree of one node. */
+lt_status lt__kd_sah_cost(lt__kd *kd, double *cost);
 /* The on-demand kd-tree behind a structure, or NULL (for tests). */
 lt__kd *lt__structure_kd(lt_structure *structure);
 /* Device bytes in use: nodes and references handed out by the heaps (references include the

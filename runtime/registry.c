@@ -70,6 +70,30 @@ const char *lt_structure_summary(lt_structure_kind kind) {
   return c ? c->summary : "";
 }
 
+/* The name of choice `value` (1-based) in a "a|b|c" list. */
+static void choice_name(const char *names, int value, char *out, size_t size) {
+  const char *at = names;
+  for (int i = 1; i < value && at; i++) {
+    at = strchr(at, '|');
+    if (at) at++;
+  }
+  size_t len = at ? strcspn(at, "|") : 0;
+  snprintf(out, size, "%.*s", (int)len, at ? at : "");
+}
+
+/* The 1-based index of `value` in a "a|b|c" list, or 0. */
+static int choice_index(const char *names, const char *value) {
+  size_t len = strlen(value);
+  int i = 1;
+  for (const char *at = names; at; i++) {
+    size_t n = strcspn(at, "|");
+    if (n == len && strncmp(at, value, len) == 0) return i;
+    at = strchr(at, '|');
+    if (at) at++;
+  }
+  return 0;
+}
+
 const char *lt_structure_parameters(lt_structure_kind kind) {
   static char text[LT_STRUCTURE_COUNT][512];
   const lt__structure_class *c = lt__structure_class_of(kind);
@@ -80,8 +104,16 @@ const char *lt_structure_parameters(lt_structure_kind kind) {
   for (const lt__param *p = c->params; p && p->option; p++) {
     const char *field = (const char *)&c->defaults + p->offset;
     double value = p->is_float ? (double)*(const float *)field : (double)*(const int *)field;
-    int n = snprintf(out + used, sizeof text[0] - used, "%s%s %s: %s (default %g)", used ? "\n" : "", p->option,
-                     p->is_float ? "X" : "N", p->help, value);
+    int n;
+    if (p->names) {
+      char name[64];
+      choice_name(p->names, (int)value, name, sizeof name);
+      n = snprintf(out + used, sizeof text[0] - used, "%s%s %s: %s (default %s)", used ? "\n" : "", p->option,
+                   p->names, p->help, name);
+    } else {
+      n = snprintf(out + used, sizeof text[0] - used, "%s%s %s: %s (default %g)", used ? "\n" : "", p->option,
+                   p->is_float ? "X" : "N", p->help, value);
+    }
     if (n < 0 || (size_t)n >= sizeof text[0] - used) break;
     used += (size_t)n;
   }
@@ -93,6 +125,12 @@ lt_status lt_structure_option(lt_structure_config *config, const char *option, c
   for (int k = 0; k < LT_STRUCTURE_COUNT; k++)
     for (const lt__param *p = classes[k]->params; p && p->option; p++) {
       if (strcmp(option, p->option) != 0) continue;
+      if (p->names) {
+        int index = choice_index(p->names, value);
+        if (!index) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "%s '%s': expected %s", option, value, p->names);
+        *(int *)((char *)config + p->offset) = index;
+        return LT_OK;
+      }
       char *end;
       errno = 0;
       double v = strtod(value, &end);

@@ -18,10 +18,13 @@ typedef struct lt__param {
   int is_float;
   double min, max;
   const char *help;
+  const char *names;  /* a choice: "stack|restart|backtrack", stored as 1 + the name's index (0:
+                         the default); NULL for a number */
 } lt__param;
 
-#define LT__PARAM_INT(opt, field, lo, hi, text) {opt, offsetof(lt_structure_config, field), 0, lo, hi, text}
-#define LT__PARAM_FLOAT(opt, field, lo, hi, text) {opt, offsetof(lt_structure_config, field), 1, lo, hi, text}
+#define LT__PARAM_INT(opt, field, lo, hi, text) {opt, offsetof(lt_structure_config, field), 0, lo, hi, text, NULL}
+#define LT__PARAM_FLOAT(opt, field, lo, hi, text) {opt, offsetof(lt_structure_config, field), 1, lo, hi, text, NULL}
+#define LT__PARAM_CHOICE(opt, field, choices, text) {opt, offsetof(lt_structure_config, field), 0, 0, 0, text, choices}
 
 typedef struct lt__structure_class {
   const char *name;       /* what --structure takes */

@@ -33,6 +33,9 @@ static lt_structure_config resolve(const lt_structure_config *config, const lt__
   if (c.traversal_cost <= 0) c.traversal_cost = d.traversal_cost;
   if (c.pool_capacity <= 0) c.pool_capacity = d.pool_capacity;
   if (c.grid_density <= 0) c.grid_density = d.grid_density;
+  if (c.kd_traversal <= 0) c.kd_traversal = d.kd_traversal;
+  if (c.kd_split <= 0) c.kd_split = d.kd_split;
+  if (c.kd_clip <= 0) c.kd_clip = d.kd_clip;
   return c;
 }
 
@@ -97,6 +100,10 @@ lt_status lt_structure_create(lt_context *ctx, const lt_scene *scene, const lt_s
                     "each must be 0 for the default or a positive finite value",
                     config->max_leaf_size, config->sah_bins, config->pool_capacity, (double)config->traversal_cost,
                     (double)config->grid_density);
+  if ((unsigned)config->kd_traversal > LT_KD_TRAVERSAL_BACKTRACK || (unsigned)config->kd_split > LT_KD_SPLIT_SWEEP ||
+      (unsigned)config->kd_clip > LT_KD_CLIP_ON)
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT, "bad kd-tree choice (traversal %d, split %d, clip %d): see LT_KD_* in lazytrace.h",
+                    config->kd_traversal, config->kd_split, config->kd_clip);
   if (lt_scene_triangle_count(scene) == 0) return lt__fail(LT_ERROR_EMPTY_SCENE, "the scene has no triangles");
 
   lt_structure *s;

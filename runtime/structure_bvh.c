@@ -134,7 +134,7 @@ static const char *const kernels[] = {"lt_bvh_ondemand", NULL};
 static const lt__param params[] = {
     LT__PARAM_INT("--leaf-size", max_leaf_size, 1, 1 << 24, "most triangles a leaf holds without SAH asking"),
     LT__PARAM_INT("--bins", sah_bins, 2, LT_MAX_BINS, "SAH bins per axis"),
-    {0, 0, 0, 0, 0, 0},
+    {0, 0, 0, 0, 0, 0, 0},
 };
 
 const lt__structure_class lt__structure_bvh = {

@@ -85,7 +85,7 @@ static const char *const kernels[] = {"lt_grid_trace", NULL};
 static const lt__param params[] = {
     LT__PARAM_FLOAT("--grid-density", grid_density, 0.001, 1000,
                     "cells along the longest axis per cube root of the triangle count"),
-    {0, 0, 0, 0, 0, 0},
+    {0, 0, 0, 0, 0, 0, 0},
 };
 
 const lt__structure_class lt__structure_grid = {

@@ -1,6 +1,7 @@
 /* The registry entry of the SAH kd-tree built through the task pool (runtime/kd_ondemand_host.c,
  * kernels/kd_ondemand.h): fully, or on demand while the rays are traced (the on-demand paper,
  * section 3.5: Kd-tree, Kd-tree_R, Kd-tree_A). */
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 
@@ -69,7 +70,14 @@ static lt_status create(lt_structure *s, lt_stats *stats) {
                     LT_MAX_BINS);
   if (n > (size_t)MAX_HEAP / 8)
     return lt__fail(LT_ERROR_INVALID_ARGUMENT, "the kd-tree takes at most %d triangles", MAX_HEAP / 8);
+  if (s->config.kd_traversal != LT_KD_TRAVERSAL_STACK && s->config.build != LT_BUILD_FULL)
+    return lt__fail(LT_ERROR_UNSUPPORTED, "--traversal %s runs on a fully built kd-tree: add --build full",
+                    s->config.kd_traversal == LT_KD_TRAVERSAL_RESTART ? "restart" : "backtrack");
   k->config.max_leaf = s->config.max_leaf_size, k->config.bins = s->config.sah_bins;
+  k->config.sweep = s->config.kd_split == LT_KD_SPLIT_SWEEP, k->config.clip = s->config.kd_clip == LT_KD_CLIP_ON;
+  k->config.traversal = s->config.kd_traversal == LT_KD_TRAVERSAL_RESTART     ? LT_KD_TRAVERSE_RESTART
+                        : s->config.kd_traversal == LT_KD_TRAVERSAL_BACKTRACK ? LT_KD_TRAVERSE_BACKTRACK
+                                                                              : LT_KD_TRAVERSE_STACK;
   k->config.max_depth = lt__kd_max_depth(n);
   k->config.traversal_cost = s->config.traversal_cost, k->config.intersection_cost = 1.0f;
   int tiny = lt__structure_tiny_capacities;
@@ -79,7 +87,7 @@ static lt_status create(lt_structure *s, lt_stats *stats) {
    * sides to new arrays (the heap never frees): a full build of the generators took up to
    * about 0.7 * max_depth references per triangle. Untouched room costs no memory on the
    * native backend. */
-  k->node_capacity = tiny ? 4 : (int)(4 * n + 16);
+  k->node_capacity = tiny ? 4 : (int)(n + 1024); /* full trees of the generators: 0.2 to 0.4 per triangle */
   double refs = (double)n * (0.75 * k->config.max_depth + 2.0) + 1024.0;
   k->ref_capacity = tiny ? (int)n : refs > MAX_HEAP / 2 ? MAX_HEAP / 2 : (int)refs;
   return with_retry(s, stats, start(s, stats));
@@ -124,6 +132,8 @@ static void put_stats(lt_structure *s, lt_stats *stats) {
   lt__stats_put(stats, LT_STAT_NODES_BUILT, nodes);
   if (mode_of(s) == LT_BUILD_FULL) lt__stats_put(stats, LT_STAT_NODES_FULL, nodes);
   lt__stats_put(stats, LT_STAT_MAX_DEPTH, k->kd.depth);
+  double cost;
+  if (mode_of(s) == LT_BUILD_FULL && lt__kd_sah_cost(&k->kd, &cost) == LT_OK) lt__stats_put(stats, LT_STAT_SAH_COST, cost);
   lt__stats_put(stats, LT_STAT_MEMORY_BYTES, memory);
   lt__stats_put(stats, LT_STAT_NODE_BYTES, node_bytes);
   lt__stats_put(stats, LT_STAT_REFERENCE_BYTES, ref_bytes);
@@ -147,7 +157,11 @@ static const char *const kernels[] = {"lt_kd_ondemand", NULL};
 static const lt__param params[] = {
     LT__PARAM_INT("--leaf-size", max_leaf_size, 1, 1 << 24, "most references a leaf holds without SAH asking"),
     LT__PARAM_INT("--bins", sah_bins, 2, LT_MAX_BINS, "SAH bins per axis"),
-    {0, 0, 0, 0, 0, 0},
+    LT__PARAM_CHOICE("--traversal", kd_traversal, "stack|restart|backtrack",
+                     "front to back with a stack, or stackless (Foley and Sugerman; --build full)"),
+    LT__PARAM_CHOICE("--split", kd_split, "binned|sweep", "split search: SAH bins, or an exact sweep of cells up to 1024 references"),
+    LT__PARAM_CHOICE("--clip", kd_clip, "off|on", "classify by the triangle's part inside the cell (perfect splits)"),
+    {0, 0, 0, 0, 0, 0, 0},
 };
 
 const lt__structure_class lt__structure_kdtree = {
@@ -156,7 +170,8 @@ const lt__structure_class lt__structure_kdtree = {
     .params = params,
     .modes = 1u << LT_BUILD_FULL | 1u << LT_BUILD_REQUESTED | 1u << LT_BUILD_SPECULATIVE,
     .defaults = {.kind = LT_STRUCTURE_KDTREE, .build = LT_BUILD_SPECULATIVE, .max_leaf_size = 16, .sah_bins = 32,
-                 .traversal_cost = 1.0f, .pool_capacity = 0, .intersect = LT_INTERSECT_WATERTIGHT, .grid_density = 3.0f},
+                 .traversal_cost = 1.0f, .pool_capacity = 0, .intersect = LT_INTERSECT_WATERTIGHT, .grid_density = 3.0f,
+                 .kd_traversal = LT_KD_TRAVERSAL_STACK, .kd_split = LT_KD_SPLIT_BINNED, .kd_clip = LT_KD_CLIP_OFF},
     .state_size = sizeof(kd_state),
     .create = create,
     .trace = trace,

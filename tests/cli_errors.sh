@@ -66,6 +66,8 @@ expect_error "more work-groups than the device runs" "runs at most [0-9]+ work-g
 expect_error "absurd work-group count" "at most 1024" trace sphere:2 --rays "$T/one.rays" --hits "$T/x.hits" --device native --work-groups 16777216
 expect_error "structure option out of range" "--bins '64': expected a whole number from 2 to 32" render sphere:2 --bins 64
 expect_error "grid density not a number" "--grid-density 'abc'" render sphere:2 --structure grid --grid-density abc
+expect_error "kd traversal not a choice" "--traversal .sideways.: expected stack|restart|backtrack" render sphere:2 --structure kdtree --traversal sideways
+expect_error "stackless kd traversal needs a full build" "runs on a fully built kd-tree" render sphere:2 --structure kdtree --traversal restart --size 8x8 -o "$T/x.png"
 expect_error "unknown structure" "unknown structure 'octree'" render sphere:2 --structure octree
 expect_error "unknown intersection test" "unknown intersection test .exact." render sphere:2 --intersect exact
 expect_error "planned structure refused" "not implemented yet" render sphere:2 --structure irgrid

@@ -13,6 +13,7 @@
 #include <cmocka.h>
 
 #include "runtime/kd_ondemand_host.h"
+#include "tests/hard_cases.h"
 #include "tests/support.h"
 
 #define CAMERA_SIZE 24
@@ -256,6 +257,117 @@ static void kdtree_full_pool_is_retried_larger(void **state) {
   lt_scene_destroy(scene);
 }
 
+/* The kd-tree's options, each against brute force: the stackless traversals on a full tree,
+ * the exact sweep and clipping in every mode; on generators (cameras and random rays) and on
+ * closed meshes, whose rays must never leak. */
+typedef struct variant {
+  const char *what;
+  lt_build_mode build;
+  int traversal, split, clip;
+} variant;
+
+static const variant variants[] = {
+    {"restart", LT_BUILD_FULL, LT_KD_TRAVERSAL_RESTART, 0, 0},
+    {"backtrack", LT_BUILD_FULL, LT_KD_TRAVERSAL_BACKTRACK, 0, 0},
+    {"sweep full", LT_BUILD_FULL, 0, LT_KD_SPLIT_SWEEP, 0},
+    {"sweep speculative", LT_BUILD_SPECULATIVE, 0, LT_KD_SPLIT_SWEEP, 0},
+    {"clip full", LT_BUILD_FULL, 0, 0, LT_KD_CLIP_ON},
+    {"clip requested", LT_BUILD_REQUESTED, 0, 0, LT_KD_CLIP_ON},
+    {"sweep + clip + backtrack", LT_BUILD_FULL, LT_KD_TRAVERSAL_BACKTRACK, LT_KD_SPLIT_SWEEP, LT_KD_CLIP_ON},
+    {"sweep + clip + restart", LT_BUILD_FULL, LT_KD_TRAVERSAL_RESTART, LT_KD_SPLIT_SWEEP, LT_KD_CLIP_ON},
+};
+#define VARIANTS (sizeof variants / sizeof variants[0])
+
+/* Every variant on every context against `ref`; returns the most misses any variant had. */
+static size_t check_variants(const char *what, const lt_scene *scene, const lt_ray *rays, size_t n, const lt_hit *ref) {
+  int have_opencl = opencl_available();
+  lt_hit *hits = malloc(n * sizeof *hits), *any = malloc(n * sizeof *any);
+  size_t worst = 0;
+  for (int backend = 0; backend < 1 + have_opencl; backend++) {
+    lt_context *ctx;
+    lt_context_config config = {backend ? LT_DEVICE_OPENCL : LT_DEVICE_NATIVE, 0, 0, 0, 1};
+    assert_int_equal(lt_context_create(&config, &ctx), LT_OK);
+    for (size_t v = 0; v < VARIANTS; v++) {
+      lt_structure_config sc = kd_config(variants[v].build);
+      sc.kd_traversal = variants[v].traversal, sc.kd_split = variants[v].split, sc.kd_clip = variants[v].clip;
+      char label[256];
+      snprintf(label, sizeof label, "kd-tree %s, %s on %s", variants[v].what, what, lt_context_device_name(ctx));
+      lt_structure *kd;
+      lt_status status = lt_structure_create(ctx, scene, &sc, NULL, &kd);
+      if (status) fprintf(stderr, "%s: %s\n", label, lt_last_error());
+      assert_int_equal(status, LT_OK);
+      assert_int_equal(lt_structure_trace(kd, rays, n, LT_QUERY_CLOSEST, hits, NULL), LT_OK);
+      assert_int_equal(lt_structure_trace(kd, rays, n, LT_QUERY_ANY, any, NULL), LT_OK);
+      lt_structure_destroy(kd);
+      assert_int_equal(lt_test_count_mismatches(label, hits, ref, n), 0);
+      assert_int_equal(lt_test_count_occlusion_mismatches(any, ref, n), 0);
+      size_t misses = lt_hc_count_misses(hits, n);
+      worst = misses > worst ? misses : worst;
+    }
+    lt_context_destroy(ctx);
+  }
+  free(hits), free(any);
+  return worst;
+}
+
+static void kdtree_options_match_reference_on_generators(void **state) {
+  (void)state;
+  static const char *const scenes[] = {"house", "hairball:300", "sphere:4", "cornell"};
+  for (size_t s = 0; s < sizeof scenes / sizeof scenes[0]; s++) {
+    lt_scene *scene;
+    assert_int_equal(lt_scene_load(scenes[s], &scene), LT_OK);
+    lt_ray *rays = malloc(RAY_COUNT * sizeof *rays);
+    lt_hit *ref = malloc(RAY_COUNT * sizeof *ref);
+    lt_test_camera_rays(scene, "outer", CAMERA_SIZE, CAMERA_SIZE, rays);
+    lt_test_camera_rays(scene, "close", CAMERA_SIZE, CAMERA_SIZE, rays + CAMERA_SIZE * CAMERA_SIZE);
+    lt_test_random_rays(scene, 21 + s, RANDOM_RAYS, rays + 2 * CAMERA_SIZE * CAMERA_SIZE);
+    assert_int_equal(lt_reference_trace(scene, rays, RAY_COUNT, LT_QUERY_CLOSEST, ref), LT_OK);
+    check_variants(scenes[s], scene, rays, RAY_COUNT, ref);
+    fprintf(stderr, "kd-tree options on %s: every variant matches the reference\n", scenes[s]);
+    free(rays), free(ref);
+    lt_scene_destroy(scene);
+  }
+}
+
+/* Closed meshes (rays at vertices, edge midpoints and random points from inside): no variant
+ * leaks, every one answers as brute force. */
+static void kdtree_options_never_leak_from_closed_meshes(void **state) {
+  (void)state;
+  lt_hc_mesh meshes[3] = {lt_hc_sphere(3, 3), lt_hc_torus(48, 24), lt_hc_cube(16, 5)};
+  const char *names[3] = {"sphere:3", "torus 48x24", "cube 16x16"};
+  for (int m = 0; m < 3; m++) {
+    size_t n = 1500;
+    lt_ray *rays = malloc(n * sizeof *rays);
+    lt_hit *ref = malloc(n * sizeof *ref);
+    n = lt_hc_closed_rays(&meshes[m], 9, n, rays);
+    assert_int_equal(lt_reference_trace(meshes[m].scene, rays, n, LT_QUERY_CLOSEST, ref), LT_OK);
+    assert_int_equal(lt_hc_count_misses(ref, n), 0);
+    assert_int_equal(check_variants(names[m], meshes[m].scene, rays, n, ref), 0);
+    fprintf(stderr, "kd-tree options on %s: %zu rays, no leaks\n", names[m], n);
+    free(rays), free(ref);
+    lt_hc_free(&meshes[m]);
+  }
+}
+
+/* The stackless traversals need a full tree, and say so. */
+static void kdtree_stackless_traversal_needs_a_full_build(void **state) {
+  (void)state;
+  lt_scene *scene;
+  assert_int_equal(lt_scene_load("sphere:2", &scene), LT_OK);
+  lt_context *ctx;
+  lt_context_config config = {LT_DEVICE_NATIVE, 0, 0, 0, 1};
+  assert_int_equal(lt_context_create(&config, &ctx), LT_OK);
+  lt_structure_config sc = kd_config(LT_BUILD_SPECULATIVE);
+  sc.kd_traversal = LT_KD_TRAVERSAL_RESTART;
+  lt_structure *kd;
+  assert_int_equal(lt_structure_create(ctx, scene, &sc, NULL, &kd), LT_ERROR_UNSUPPORTED);
+  assert_non_null(strstr(lt_last_error(), "--build full"));
+  sc.kd_traversal = 7;
+  assert_int_equal(lt_structure_create(ctx, scene, &sc, NULL, &kd), LT_ERROR_INVALID_ARGUMENT);
+  lt_context_destroy(ctx);
+  lt_scene_destroy(scene);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(kdtree_statistics_are_filled),
@@ -263,6 +375,9 @@ int main(void) {
       cmocka_unit_test(kdtree_builds_only_what_rays_reach),
       cmocka_unit_test(kdtree_full_pool_is_retried_larger),
       cmocka_unit_test(kdtree_matches_reference_in_every_mode),
+      cmocka_unit_test(kdtree_stackless_traversal_needs_a_full_build),
+      cmocka_unit_test(kdtree_options_match_reference_on_generators),
+      cmocka_unit_test(kdtree_options_never_leak_from_closed_meshes),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

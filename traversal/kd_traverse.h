@@ -31,6 +31,8 @@
 /* What a kd traversal reads. */
 typedef struct lt_kd_view {
   LT_GLOBAL const lt_kd_node *nodes;
+  LT_GLOBAL const lt_i32 *parents; /* per node: its parent (stackless backtracking) */
+  LT_GLOBAL const float *cells;    /* per node: its cell, lo xyz hi xyz (stackless backtracking) */
   LT_GLOBAL const lt_i32 *refs;  /* reference arrays (leaves point into them) */
   LT_GLOBAL const float *verts;  /* the scene's vertices, 9 floats a triangle */
   const lt_pool *pool;           /* on demand: where unbuilt children are requested */
@@ -52,6 +54,7 @@ typedef struct lt_kd_ray {
   lt_kd_entry cur; /* the link to read next and its cell's stretch; address -1: pop */
   lt_i32 wait;     /* link address the ray is suspended on, or -1 */
   lt_i32 overflow; /* the stack would have overflowed: the answer is not to be trusted */
+  float t_near, t_far; /* the ray's stretch in the root cell (the stackless traversals) */
 } lt_kd_ray;
 
 /* The margin of a plane distance (p - o) / d: see LT_KD_PLANE_EPS. */
@@ -83,6 +86,7 @@ LT_DEVICE void lt_kd_ray_start(lt_kd_ray *q, LT_GLOBAL const float *ray, const l
   }
   if (!(t_near <= t_far)) return;
   q->cur.address = 0, q->cur.t_near = t_near, q->cur.t_far = t_far;
+  q->t_near = t_near, q->t_far = t_far;
 }
 
 /* A finished ray's answer in the hit file's layout: a miss is t = +infinity, u = v = 0. */
@@ -110,6 +114,34 @@ LT_DEVICE void lt_kd_leaf(const lt_kd_view *v, const lt_ray_setup *r, lt_hit_rec
     c->intersections++;
     lt_intersect_triangle(r, v0, v1, v2, prim, hit);
   }
+}
+
+/* Which children of an inner cell a ray visits, and in which order. Along the ray, the child
+ * below the plane comes first when the ray runs up the axis (up to the plane's distance), the
+ * one above first when it runs down; a ray parallel to the plane stays on its origin's side, or
+ * in the plane, in both. A child is skipped only when the plane lies beyond the cell's stretch
+ * [t_near, t_far] by more than the plane distance's margin. */
+typedef struct lt_kd_step {
+  int first_side, visit_first, visit_second;
+  float t_split, margin; /* the plane's distance and margin (t_near and 0 for a parallel ray) */
+} lt_kd_step;
+
+LT_DEVICE lt_kd_step lt_kd_decide(const lt_ray_setup *r, int axis, float p, float t_near, float t_far) {
+  float o = r->org[axis], d = r->dir[axis];
+  lt_kd_step st;
+  st.first_side = d > 0.0f ? 0 : 1;
+  st.visit_first = 1, st.visit_second = 1;
+  st.t_split = t_near, st.margin = 0.0f;
+  if (d == 0.0f) {
+    st.first_side = o <= p ? 0 : 1;
+    st.visit_second = o == p;
+  } else {
+    st.t_split = (p - o) / d;
+    st.margin = lt_kd_margin(p, o, d, st.t_split);
+    st.visit_first = t_near <= st.t_split + st.margin;
+    st.visit_second = t_far >= st.t_split - st.margin;
+  }
+  return st;
 }
 
 /* Advances a ray started with lt_kd_ray_start; returns 1 when it is done, 0 when it waits for
@@ -163,22 +195,9 @@ LT_DEVICE int lt_kd_advance(const lt_kd_view *v, lt_kd_ray *q, int flags, lt_tra
       continue;
     }
 
-    /* An inner cell. Along the ray, the child below the plane comes first when the ray runs
-     * up the axis (up to the plane's distance), the one above first when it runs down; a
-     * ray parallel to the plane stays on its origin's side, or in the plane, in both. */
-    float p = n->split, o = r->org[axis], d = r->dir[axis];
-    int first_side = d > 0.0f ? 0 : 1;
-    int visit_first = 1, visit_second = 1;
-    float t_split = cur.t_near, margin = 0.0f;
-    if (d == 0.0f) {
-      first_side = o <= p ? 0 : 1;
-      visit_second = o == p;
-    } else {
-      t_split = (p - o) / d;
-      margin = lt_kd_margin(p, o, d, t_split);
-      visit_first = cur.t_near <= t_split + margin;
-      visit_second = cur.t_far >= t_split - margin;
-    }
+    lt_kd_step st = lt_kd_decide(r, axis, n->split, cur.t_near, cur.t_far);
+    int first_side = st.first_side, visit_first = st.visit_first, visit_second = st.visit_second;
+    float t_split = st.t_split, margin = st.margin, d = r->dir[axis];
     lt_i32 first_address = link * 2 + first_side, second_address = link * 2 + 1 - first_side;
     if (visit_first && visit_second) {
       if (sp == LT_KD_STACK_SIZE) {
