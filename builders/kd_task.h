@@ -49,6 +49,7 @@ enum {
 typedef struct lt_kd_build {
   lt_pool pool;
   LT_GLOBAL const float *verts; /* 9 per triangle, in scene order (the scene's own array) */
+  LT_GLOBAL const lt_v4 *prim_boxes; /* 2 per triangle: lo, hi (lanes x y z; computed once) */
   LT_GLOBAL lt_kd_node *nodes;  /* from node_heap */
   LT_GLOBAL lt_i32 *refs;       /* reference arrays, from ref_heap */
   LT_GLOBAL lt_i32 *parents;    /* per node: the node whose link leads to it */
@@ -66,6 +67,7 @@ typedef struct lt_kd_build {
 #define LT_KD_BUILD_ARGS(X, V)                    \
   LT_POOL_ARGS(X, V.pool)                         \
   X(BUF, float, V.verts, verts)                   \
+  X(BUF, lt_v4, V.prim_boxes, prim_boxes)         \
   X(BUF, lt_kd_node, V.nodes, nodes)              \
   X(BUF, lt_i32, V.refs, refs)                    \
   X(BUF, lt_i32, V.parents, parents)              \
@@ -88,14 +90,8 @@ LT_DEVICE void lt_kd_count(const lt_kd_build *b, int stat, lt_u32 n) {
 
 /* A triangle's box. */
 LT_DEVICE lt_box lt_kd_prim_box(const lt_kd_build *b, lt_i32 prim) {
-  LT_GLOBAL const float *v = b->verts + 9 * (long)prim;
-  lt_box box;
-  for (int k = 0; k < 3; k++) {
-    float x = v[k], y = v[3 + k], z = v[6 + k];
-    float lo = x < y ? x : y, hi = x > y ? x : y;
-    box.lo[k] = z < lo ? z : lo, box.hi[k] = z > hi ? z : hi;
-  }
-  return box;
+  LT_GLOBAL const lt_v4 *box = b->prim_boxes + 2 * (long)prim;
+  return lt_box_of4(box[0], box[1]);
 }
 
 #ifdef LT_HAVE_DOUBLE

@@ -9,51 +9,11 @@
 #include "runtime/kernel_args_host.h"
 #include "runtime/persistent_launch.h"
 #include "runtime/stats_internal.h"
+#include "runtime/triangle_boxes.h"
 
 /* Bin slabs: how many large nodes may bin at once; a node that finds none is split in one go
  * by one work-item. Tests set it to 0 to take that path always. */
 int lt__ondemand_slab_count = 64;
-
-#define MAX_BOX_THREADS 64
-
-/* Each triangle's box, written where `boxes` points (8 floats: lo xyz 0, hi xyz 0), by one
- * host thread per slice of the scene, each bounding its slice. */
-typedef struct box_job {
-  const float *tris;
-  size_t count;
-  float *boxes;
-  int threads;
-  lt_box bounds[MAX_BOX_THREADS];
-} box_job;
-
-static void box_slice(void *arg) {
-  box_job *job = arg;
-  int t = lt__native_group_id;
-  size_t n = job->count, begin = n * t / job->threads, end = n * (t + 1) / job->threads;
-  lt_v4 inf = lt_v4_splat(INFINITY), ninf = lt_v4_splat(-INFINITY);
-  lt_v4 blo = inf, bhi = ninf;
-  lt_v4 *boxes = (lt_v4 *)job->boxes;
-  for (size_t i = begin; i < end; i++) {
-    lt_v4 lo, hi;
-    lt_tri_box4(job->tris + 9 * i, &lo, &hi);
-    boxes[2 * i] = lo, boxes[2 * i + 1] = hi;
-    blo = lt_v4_min(lo, blo), bhi = lt_v4_max(hi, bhi);
-  }
-  job->bounds[t] = lt_box_of4(blo, bhi);
-}
-
-/* The boxes and the root's bounds. */
-static lt_status triangle_boxes(const lt_scene *scene, float *boxes, lt_box *bounds) {
-  box_job job;
-  int threads = lt__native_threads();
-  job.tris = lt_scene_triangles(scene), job.count = lt_scene_triangle_count(scene), job.boxes = boxes;
-  job.threads = threads < 1 ? 1 : threads > MAX_BOX_THREADS ? MAX_BOX_THREADS : threads;
-  if (job.count < 65536) job.threads = 1;
-  lt_status status = lt__native_run(job.threads, box_slice, &job);
-  *bounds = lt_box_empty();
-  for (int t = 0; !status && t < job.threads; t++) lt_box_grow(bounds, &job.bounds[t]);
-  return status;
-}
 
 static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, int count, int flags, int speculate,
                         int setup);
@@ -80,7 +40,7 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
     float *boxes = lt__buffer_begin_write(ctx, &od->prim_boxes);
     int *index = lt__buffer_begin_write(ctx, &od->index);
     status = boxes && index ? LT_OK : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for %zu triangles", n);
-    if (!status) status = triangle_boxes(scene, boxes, &od->bounds);
+    if (!status) status = lt__triangle_boxes(scene, boxes, &od->bounds);
     for (int i = 0; !status && i < od->count; i++) index[i] = i;
     /* Always hand the staging copies back (OpenCL frees them), whatever happened. */
     lt_status uploaded = boxes ? lt__buffer_end_write(ctx, &od->prim_boxes, boxes) : LT_OK;

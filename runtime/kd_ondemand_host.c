@@ -11,6 +11,7 @@
 #include "runtime/kernel_args_host.h"
 #include "runtime/persistent_launch.h"
 #include "runtime/stats_internal.h"
+#include "runtime/triangle_boxes.h"
 
 int lt__kd_max_depth(size_t n) {
   double depth = 1.2 * log2(n > 1 ? (double)n : 1.0) + 2.0;
@@ -20,26 +21,12 @@ int lt__kd_max_depth(size_t n) {
 static lt_status launch(lt__kd *kd, lt__buffer *rays, lt__buffer *hits, int count, int flags, int speculate, int setup);
 static lt_status read_counters(lt__kd *kd, lt_stats *stats);
 
-static lt_box scene_bounds(const lt_scene *scene) {
-  lt_box bounds = lt_box_empty();
-  const float *v = lt_scene_triangles(scene);
-  size_t n = lt_scene_triangle_count(scene);
-  for (size_t i = 0; i < 3 * n; i++)
-    for (int k = 0; k < 3; k++) {
-      float x = v[3 * i + k];
-      bounds.lo[k] = x < bounds.lo[k] ? x : bounds.lo[k];
-      bounds.hi[k] = x > bounds.hi[k] ? x : bounds.hi[k];
-    }
-  return bounds;
-}
-
 lt_status lt__kd_create(lt_context *ctx, const lt_scene *scene, const lt__kd_config *config, int mode,
                         int pool_capacity, int node_capacity, int ref_capacity, lt__kd *kd) {
   memset(kd, 0, sizeof *kd);
   kd->ctx = ctx;
   kd->count = (int)lt_scene_triangle_count(scene);
   kd->config = *config;
-  kd->bounds = scene_bounds(scene);
   if (config->bins > LT_MAX_BINS) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "at most %d SAH bins", LT_MAX_BINS);
   lt_pool_config pool = {pool_capacity, 0, 0, 0, 0, 0};
   size_t n = (size_t)kd->count;
@@ -47,6 +34,13 @@ lt_status lt__kd_create(lt_context *ctx, const lt_scene *scene, const lt__kd_con
   if (!status) status = lt__heap_create(ctx, &kd->node_heap, node_capacity);
   if (!status) status = lt__heap_create(ctx, &kd->ref_heap, ref_capacity);
   if (!status) status = lt__buffer_wrap(ctx, &kd->verts, lt_scene_triangles(scene), n * 9 * sizeof(float));
+  if (!status) status = lt__buffer_create(ctx, &kd->prim_boxes, n * 8 * sizeof(float), NULL, LT_BUFFER_UNINIT);
+  if (!status) {
+    float *boxes = lt__buffer_begin_write(ctx, &kd->prim_boxes);
+    status = boxes ? lt__triangle_boxes(scene, boxes, &kd->bounds) : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for %zu boxes", n);
+    lt_status uploaded = boxes ? lt__buffer_end_write(ctx, &kd->prim_boxes, boxes) : LT_OK;
+    if (!status) status = uploaded;
+  }
   if (!status)
     status = lt__buffer_create(ctx, &kd->nodes, (size_t)node_capacity * sizeof(lt_kd_node), NULL, LT_BUFFER_UNINIT);
   if (!status) status = lt__buffer_create(ctx, &kd->refs, (size_t)ref_capacity * 4, NULL, LT_BUFFER_UNINIT);
@@ -71,7 +65,7 @@ void lt__kd_release(lt__kd *kd) {
   lt__pool_release(&kd->pool);
   lt__heap_release(&kd->node_heap);
   lt__heap_release(&kd->ref_heap);
-  lt__buffer *buffers[] = {&kd->verts, &kd->nodes, &kd->refs, &kd->parents, &kd->cells, &kd->counters};
+  lt__buffer *buffers[] = {&kd->verts, &kd->prim_boxes, &kd->nodes, &kd->refs, &kd->parents, &kd->cells, &kd->counters};
   for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++) lt__buffer_release(buffers[i]);
 }
 
@@ -84,7 +78,7 @@ static lt_status launch(lt__kd *kd, lt__buffer *rays, lt__buffer *hits, int coun
   LT__HEAP_HOST_ARGS(&args, node_heap, &kd->node_heap);
   LT__HEAP_HOST_ARGS(&args, ref_heap, &kd->ref_heap);
   args.verts = &kd->verts, args.nodes = &kd->nodes, args.refs = &kd->refs, args.counters = &kd->counters;
-  args.parents = &kd->parents, args.cells = &kd->cells;
+  args.parents = &kd->parents, args.cells = &kd->cells, args.prim_boxes = &kd->prim_boxes;
   args.sweep = kd->config.sweep, args.clip = kd->config.clip, args.traversal = kd->config.traversal;
   args.task_kind = 0; /* the kernel numbers its own task kinds */
   args.max_leaf = kd->config.max_leaf, args.bins = kd->config.bins, args.max_depth = kd->config.max_depth;
@@ -180,7 +174,7 @@ double lt__kd_bytes(lt__kd *kd, double *node_bytes, double *reference_bytes, dou
   *reference_bytes = (double)refs * 4.0;
   *pool_bytes = (double)(kd->pool.headers.bytes + kd->pool.tasks.bytes + kd->pool.empty_cache.bytes +
                          kd->pool.priority_cache.bytes + kd->pool.control.bytes);
-  return *node_bytes + *reference_bytes + *pool_bytes;
+  return *node_bytes + *reference_bytes + *pool_bytes + (double)kd->prim_boxes.bytes;
 }
 
 /* The surface area of a cell stored as lo xyz hi xyz. */

@@ -19,7 +19,7 @@ typedef struct lt__kd {
   lt_context *ctx;
   lt__pool pool;
   lt__heap node_heap, ref_heap;
-  lt__buffer verts, nodes, refs, parents, cells, counters;
+  lt__buffer verts, prim_boxes, nodes, refs, parents, cells, counters;
   int count;          /* triangles */
   lt_box bounds;      /* the scene's: the root cell */
   lt__kd_config config;
@@ -53,7 +53,8 @@ lt_status lt__kd_sah_cost(lt__kd *kd, double *cost);
 /* The on-demand kd-tree behind a structure, or NULL (for tests). */
 lt__kd *lt__structure_kd(lt_structure *structure);
 /* Device bytes in use: nodes and references handed out by the heaps (references include the
- * arrays of inner cells, which the heap does not free), and the pool. */
+ * arrays of inner cells, which the heap does not free), the pool, and (in the total) the
+ * triangles' boxes. */
 double lt__kd_bytes(lt__kd *kd, double *node_bytes, double *reference_bytes, double *pool_bytes);
 
 #endif
