@@ -126,5 +126,8 @@ static inline lt_i32 lt__atomic_max_i32(lt_i32 *p, lt_i32 v) {
 #define lt_atomic_min_i32(p, v) lt__atomic_min_i32((lt_i32 *)(p), (v))
 #define lt_atomic_max_i32(p, v) lt__atomic_max_i32((lt_i32 *)(p), (v))
 #define lt_fence() __atomic_thread_fence(__ATOMIC_SEQ_CST)
+/* A load that later reads cannot overtake (a consumer's side of a publication): on x86 a plain
+ * load, where lt_atomic_load_i32 followed by lt_fence costs a full fence per read. */
+#define lt_atomic_load_acquire_i32(p) __atomic_load_n((lt_i32 *)(p), __ATOMIC_ACQUIRE)
 
 #endif

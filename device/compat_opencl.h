@@ -68,5 +68,12 @@ LT_DEVICE int lt_v4_any_ge(float4 a, float4 b) { return any(a >= b); }
 #define lt_atomic_min_i32(p, v) atomic_min((volatile LT_GLOBAL int *)(p), (v))
 #define lt_atomic_max_i32(p, v) atomic_max((volatile LT_GLOBAL int *)(p), (v))
 #define lt_fence() mem_fence(CLK_GLOBAL_MEM_FENCE)
+/* A load that later reads cannot overtake (a consumer's side of a publication). */
+inline int lt__load_acquire_i32(volatile LT_GLOBAL const int *p) {
+  int v = *p;
+  mem_fence(CLK_GLOBAL_MEM_FENCE);
+  return v;
+}
+#define lt_atomic_load_acquire_i32(p) lt__load_acquire_i32((volatile LT_GLOBAL const int *)(p))
 
 #endif

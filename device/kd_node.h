@@ -69,12 +69,10 @@ LT_DEVICE void lt_kd_set_link(LT_GLOBAL lt_kd_node *nodes, lt_i32 address, lt_i3
   lt_atomic_store_i32(&nodes[address >> 1].link[address & 1], link);
 }
 
-/* Reads the link at `address` of a tree that may still grow; a fence after it, so that the
+/* Reads the link at `address` of a tree that may still grow, with acquire order, so that the
  * node it names is read as written. */
 LT_DEVICE lt_i32 lt_kd_read_link(LT_GLOBAL const lt_kd_node *nodes, lt_i32 address) {
-  lt_i32 link = lt_atomic_load_i32(&nodes[address >> 1].link[address & 1]);
-  lt_fence();
-  return link;
+  return lt_atomic_load_acquire_i32(&nodes[address >> 1].link[address & 1]);
 }
 
 #endif
