@@ -37,6 +37,11 @@ table=$(build/benchmarks/bench_accuracy "$@" --csv $R/accuracy.csv)
   echo "- The pool's builder prices the splits of nodes above 16384 primitives on a regular sample of at most"
   echo "  16384 of them (builders/sah_bins.h); the host reference bins every primitive. Compare their 32-bin"
   echo "  rows for what sampling costs in SAH cost on this scene."
+  echo "- The kd-tree rows: its SAH cost counts a cell visit as 1 and a test per reference in a leaf as 1, like the"
+  echo "  BVH's, but over cells that partition space, so compare kd rows with each other. The exact sweep and"
+  echo "  clipping lower its SAH cost and references at a build-time price (they run on one work-item per cell);"
+  echo "  the stackless traversals visit the same leaves as the stack (same tests), and their trace times show"
+  echo "  what re-descending (restart) or climbing parent links (backtrack) costs."
   echo "- The pool's trace times include one launch of the persistent kernel; the host-built trees (host"
   echo "  reference, LBVH) are traced by the plain trace kernel."
 } >$R/accuracy.md
