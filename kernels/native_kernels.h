@@ -19,6 +19,10 @@ void lt__native_bvh_ondemand_kernel(void *arg);
 void lt__native_kd_ondemand_kernel(void *arg);
 /* kernels/native_bvh_trace.c: arg is an lt__native_trace_launch over an lt_bvh_trace_view. */
 void lt__native_bvh_trace_kernel(void *arg);
+/* kernels/native_bvh_trace_index.c: arg is an lt__native_trace_launch over an lt_bvh_index_view. */
+void lt__native_bvh_trace_index_kernel(void *arg);
+/* kernels/native_kd_trace.c: arg is an lt__native_trace_launch over an lt_kd_trace_view. */
+void lt__native_kd_trace_kernel(void *arg);
 /* kernels/native_grid_trace.c: arg is an lt__native_trace_launch over an lt_grid_trace_view. */
 void lt__native_grid_trace_kernel(void *arg);
 

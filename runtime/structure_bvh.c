@@ -3,7 +3,11 @@
 #include <stdint.h>
 #include <stdlib.h>
 
+#include "kernels/bvh_trace.h"
+#include "kernels/native_kernels.h"
 #include "runtime/bvh_ondemand_host.h"
+#include "runtime/kernel_args_host.h"
+#include "runtime/trace_launch.h"
 #include "runtime/context_internal.h"
 #include "runtime/error.h"
 #include "runtime/registry.h"
@@ -74,11 +78,26 @@ static lt_status create(lt_structure *s, lt_stats *stats) {
   return with_retry(s, stats, start(s, stats));
 }
 
+LT__KERNEL_ARGS(index_args, LT_BVH_INDEX_ARGS, lt_bvh_index_view)
+
+/* A full build's tree is finished: its rays go through the plain trace kernel, which costs a
+ * ray less than the persistent kernel's round of batches and link reads. */
+static lt_status trace_finished(lt_structure *s, const lt_ray *rays, int count, int flags, lt_hit *hits,
+                                lt_stats *stats) {
+  bvh_state *b = s->state;
+  index_args args = {NULL, NULL, 0, 0, &b->od.nodes, &b->od.index, &b->od.verts};
+  lt_bvh_index_view view;
+  lt__trace_call call = {"lt_bvh_trace_index", lt__native_bvh_trace_index_kernel, index_args_set_any,
+                         index_args_view_any, &args, &args.rays, &args.hits, &args.ray_count, &args.flags, &view};
+  return lt__trace_finished(s->ctx, &call, rays, count, flags, hits, stats);
+}
+
 /* One launch builds what the rays need while tracing them (time to image); with statistics
  * asked for, a second launch traces the same rays on the tree as built, which is the trace
  * time, and build time is the difference (the paper's convention). */
 static lt_status trace(lt_structure *s, const lt_ray *rays, int count, int flags, lt_hit *hits, lt_stats *stats) {
   bvh_state *b = s->state;
+  if (mode_of(s) == LT_BUILD_FULL) return trace_finished(s, rays, count, flags, hits, stats);
   int speculate = mode_of(s) == LT_BUILD_SPECULATIVE;
   double begin = lt_now_ms();
   lt_status status = lt__ondemand_launch(&b->od, rays, count, flags, hits, speculate, stats);
@@ -129,7 +148,7 @@ lt__ondemand *lt__structure_ondemand(lt_structure *s) {
   return b->live ? &b->od : NULL;
 }
 
-static const char *const kernels[] = {"lt_bvh_ondemand", NULL};
+static const char *const kernels[] = {"lt_bvh_ondemand", "lt_bvh_trace_index", NULL};
 
 static const lt__param params[] = {
     LT__PARAM_INT("--leaf-size", max_leaf_size, 1, 1 << 24, "most triangles a leaf holds without SAH asking"),

@@ -5,11 +5,15 @@
 #include <stdint.h>
 #include <stdlib.h>
 
+#include "kernels/kd_trace.h"
+#include "kernels/native_kernels.h"
 #include "runtime/context_internal.h"
 #include "runtime/error.h"
 #include "runtime/kd_ondemand_host.h"
+#include "runtime/kernel_args_host.h"
 #include "runtime/registry.h"
 #include "runtime/stats_internal.h"
+#include "runtime/trace_launch.h"
 
 typedef struct kd_state {
   lt__kd_config config;
@@ -93,11 +97,28 @@ static lt_status create(lt_structure *s, lt_stats *stats) {
   return with_retry(s, stats, start(s, stats));
 }
 
+LT__KERNEL_ARGS(kd_trace_args, LT_KD_TRACE_ARGS, lt_kd_trace_view)
+
+/* A full build's tree is finished: its rays go through the plain trace kernel. */
+static lt_status trace_finished(lt_structure *s, const lt_ray *rays, int count, int flags, lt_hit *hits,
+                                lt_stats *stats) {
+  kd_state *k = s->state;
+  lt__kd *kd = &k->kd;
+  kd_trace_args args = {NULL, NULL, 0, 0, &kd->nodes, &kd->refs, &kd->verts, &kd->parents, &kd->cells,
+                        (lt_float4){kd->bounds.lo[0], kd->bounds.lo[1], kd->bounds.lo[2], 0.0f},
+                        (lt_float4){kd->bounds.hi[0], kd->bounds.hi[1], kd->bounds.hi[2], 0.0f}, k->config.traversal};
+  lt_kd_trace_view view;
+  lt__trace_call call = {"lt_kd_trace", lt__native_kd_trace_kernel, kd_trace_args_set_any, kd_trace_args_view_any,
+                         &args, &args.rays, &args.hits, &args.ray_count, &args.flags, &view};
+  return lt__trace_finished(s->ctx, &call, rays, count, flags, hits, stats);
+}
+
 /* As the BVH: one launch builds what the rays need while tracing them (time to image); with
  * statistics asked for, a second launch traces the same rays on the tree as built, which is
  * the trace time, and build time is the difference. */
 static lt_status trace(lt_structure *s, const lt_ray *rays, int count, int flags, lt_hit *hits, lt_stats *stats) {
   kd_state *k = s->state;
+  if (mode_of(s) == LT_BUILD_FULL) return trace_finished(s, rays, count, flags, hits, stats);
   int speculate = mode_of(s) == LT_BUILD_SPECULATIVE;
   double begin = lt_now_ms();
   lt_status status = lt__kd_launch(&k->kd, rays, count, flags, hits, speculate, stats);
@@ -152,7 +173,7 @@ lt__kd *lt__structure_kd(lt_structure *s) {
   return k->live ? &k->kd : NULL;
 }
 
-static const char *const kernels[] = {"lt_kd_ondemand", NULL};
+static const char *const kernels[] = {"lt_kd_ondemand", "lt_kd_trace", NULL};
 
 static const lt__param params[] = {
     LT__PARAM_INT("--leaf-size", max_leaf_size, 1, 1 << 24, "most references a leaf holds without SAH asking"),

@@ -4,6 +4,8 @@
  *                            are triangle numbers into the scene's vertices)
  *   lt_bvh_advance_tris      a finished tree built on the host (leaves are triangles in leaf
  *                            order)
+ *   lt_bvh_advance_index     a finished tree built by the pool (leaves are triangle numbers;
+ *                            plain loads, no requests)
  *
  * A tree being built culls each popped far child against the best hit as it is now
  * (LT_BVH_TRAVERSE_CULL_POPS): a far child hidden since it was pushed is then neither visited
@@ -25,6 +27,12 @@
 #define LT_BVH_TRAVERSE_NAME lt_bvh_advance_tris
 #define LT_BVH_TRAVERSE_ONDEMAND 0
 #define LT_BVH_TRAVERSE_LEAF_TRIS 1
+#define LT_BVH_TRAVERSE_CULL_POPS 0
+#include "traversal/bvh_traverse_body.h"
+
+#define LT_BVH_TRAVERSE_NAME lt_bvh_advance_index
+#define LT_BVH_TRAVERSE_ONDEMAND 0
+#define LT_BVH_TRAVERSE_LEAF_TRIS 0
 #define LT_BVH_TRAVERSE_CULL_POPS 0
 #include "traversal/bvh_traverse_body.h"
 

@@ -20,6 +20,7 @@
 #ifndef LT_KD_TRAVERSE_H
 #define LT_KD_TRAVERSE_H
 
+#include "device/box.h"
 #include "device/kd_node.h"
 #include "device/pool.h"
 #include "traversal/intersect_triangle.h"
@@ -35,7 +36,8 @@ typedef struct lt_kd_view {
   LT_GLOBAL const float *cells;    /* per node: its cell, lo xyz hi xyz (stackless backtracking) */
   LT_GLOBAL const lt_i32 *refs;  /* reference arrays (leaves point into them) */
   LT_GLOBAL const float *verts;  /* the scene's vertices, 9 floats a triangle */
-  const lt_pool *pool;           /* on demand: where unbuilt children are requested */
+  const lt_pool *pool;           /* on demand: where unbuilt children are requested; NULL for a
+                                    finished tree (kernels/kd_trace.h) */
   lt_box bounds;                 /* the scene's: the root cell */
 } lt_kd_view;
 
@@ -201,7 +203,7 @@ LT_DEVICE int lt_kd_advance(const lt_kd_view *v, lt_kd_ray *q, int flags, lt_tra
     lt_i32 first_address = link * 2 + first_side, second_address = link * 2 + 1 - first_side;
     if (visit_first && visit_second) {
       if (sp == LT_KD_STACK_SIZE) {
-        lt_pool_fail(v->pool, LT_POOL_ERROR_STACK);
+        if (v->pool) lt_pool_fail(v->pool, LT_POOL_ERROR_STACK);
         q->overflow = 1;
         break;
       }
