@@ -2,6 +2,7 @@
 #include "tests/support.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -46,3 +47,12 @@ size_t lt_test_count_occlusion_mismatches(const lt_hit *a, const lt_hit *b, size
   return bad;
 }
 
+
+int lt_test_opencl_available(void) {
+  if (getenv("LT_TEST_NATIVE_ONLY")) return 0;
+  lt_context *ctx;
+  lt_context_config config = {LT_DEVICE_OPENCL, 0, 0, 0, 1};
+  if (lt_context_create(&config, &ctx) != LT_OK) return 0;
+  lt_context_destroy(ctx);
+  return 1;
+}

@@ -15,6 +15,8 @@ void lt_test_random_rays(const lt_scene *scene, uint64_t seed, size_t n, lt_ray 
 /* Camera rays of the scene's named camera, width x height. */
 void lt_test_camera_rays(const lt_scene *scene, const char *camera, int width, int height, lt_ray *out);
 
+/* Whether an OpenCL device can be used (and LT_TEST_NATIVE_ONLY is not set). */
+int lt_test_opencl_available(void);
 /* Number of rays whose closest hits differ in prim or t (bitwise); prints the first few. */
 size_t lt_test_count_mismatches(const char *what, const lt_hit *a, const lt_hit *b, size_t n);
 /* Number of rays on which a and b disagree about being occluded. */

@@ -30,15 +30,6 @@ static const launch launches[] = {
     {LT_DEVICE_OPENCL, 0, 7}, {LT_DEVICE_OPENCL, 0, 64},
 };
 
-static int opencl_available(void) {
-  if (getenv("LT_TEST_NATIVE_ONLY")) return 0;
-  lt_context *ctx;
-  lt_context_config config = {LT_DEVICE_OPENCL, 0, 0, 0, 1};
-  if (lt_context_create(&config, &ctx) != LT_OK) return 0;
-  lt_context_destroy(ctx);
-  return 1;
-}
-
 static void make_rays(const lt_scene *scene, lt_ray *rays) {
   lt_test_camera_rays(scene, "outer", CAMERA_SIZE, CAMERA_SIZE, rays);
   lt_test_camera_rays(scene, "close", CAMERA_SIZE, CAMERA_SIZE, rays + CAMERA_SIZE * CAMERA_SIZE);
@@ -64,7 +55,7 @@ static lt_hit *trace_with(const lt_scene *scene, const launch *l, const lt_ray *
 
 static void bvh_matches_reference_on_every_generator(void **state) {
   (void)state;
-  int have_opencl = opencl_available();
+  int have_opencl = lt_test_opencl_available();
   for (size_t s = 0; s < sizeof specs / sizeof specs[0]; s++) {
     lt_scene *scene;
     assert_int_equal(lt_scene_load(specs[s], &scene), LT_OK);
@@ -99,7 +90,7 @@ static void bvh_matches_reference_on_every_generator(void **state) {
 /* On a bigger scene, too big for brute force, the two backends agree bit for bit on 64k rays. */
 static void bvh_backends_agree_bitwise_on_house_grid(void **state) {
   (void)state;
-  if (!opencl_available()) skip();
+  if (!lt_test_opencl_available()) skip();
   lt_scene *scene;
   assert_int_equal(lt_scene_load("house-grid:3x3", &scene), LT_OK);
   size_t n = 256 * 256 + 4096;

@@ -28,15 +28,6 @@ typedef struct launch {
   int work_groups, local_size;
 } launch;
 
-static int opencl_available(void) {
-  if (getenv("LT_TEST_NATIVE_ONLY")) return 0;
-  lt_context *ctx;
-  lt_context_config config = {LT_DEVICE_OPENCL, 0, 0, 0, 1};
-  if (lt_context_create(&config, &ctx) != LT_OK) return 0;
-  lt_context_destroy(ctx);
-  return 1;
-}
-
 static lt_structure_config kd_config(lt_build_mode mode) {
   lt_structure_config c = lt_structure_config_default(LT_STRUCTURE_KDTREE);
   c.build = mode;
@@ -64,7 +55,7 @@ static lt_hit *trace_with(const lt_scene *scene, const launch *l, lt_build_mode 
 /* Every generator, both cameras and random rays, every mode, launch shapes on both backends. */
 static void kdtree_matches_reference_in_every_mode(void **state) {
   (void)state;
-  int have_opencl = opencl_available();
+  int have_opencl = lt_test_opencl_available();
   const launch launches[] = {{LT_DEVICE_NATIVE, 2, 1}, {LT_DEVICE_NATIVE, 1, 1}, {LT_DEVICE_NATIVE, 3, 1},
                              {LT_DEVICE_OPENCL, 0, 1}, {LT_DEVICE_OPENCL, 2, 4}};
   size_t first = getenv("LT_TEST_QUICK") ? 3 : 0;
@@ -280,7 +271,7 @@ static const variant variants[] = {
 
 /* Every variant on every context against `ref`; returns the most misses any variant had. */
 static size_t check_variants(const char *what, const lt_scene *scene, const lt_ray *rays, size_t n, const lt_hit *ref) {
-  int have_opencl = opencl_available();
+  int have_opencl = lt_test_opencl_available();
   lt_hit *hits = malloc(n * sizeof *hits), *any = malloc(n * sizeof *any);
   size_t worst = 0;
   for (int backend = 0; backend < 1 + have_opencl; backend++) {

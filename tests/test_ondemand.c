@@ -27,15 +27,6 @@ typedef struct launch {
   int work_groups, local_size;
 } launch;
 
-static int opencl_available(void) {
-  if (getenv("LT_TEST_NATIVE_ONLY")) return 0;
-  lt_context *ctx;
-  lt_context_config config = {LT_DEVICE_OPENCL, 0, 0, 0, 1};
-  if (lt_context_create(&config, &ctx) != LT_OK) return 0;
-  lt_context_destroy(ctx);
-  return 1;
-}
-
 static lt_structure_config mode_config(lt_build_mode mode) {
   lt_structure_config c = lt_structure_config_default(LT_STRUCTURE_BVH);
   c.build = mode;
@@ -69,7 +60,7 @@ static void make_rays(const lt_scene *scene, uint64_t seed, lt_ray *rays) {
 /* Every generator, every mode, several launch shapes on both backends. */
 static void ondemand_matches_reference_in_every_mode(void **state) {
   (void)state;
-  int have_opencl = opencl_available();
+  int have_opencl = lt_test_opencl_available();
   const launch launches[] = {{LT_DEVICE_NATIVE, 2, 1}, {LT_DEVICE_NATIVE, 1, 1}, {LT_DEVICE_NATIVE, 3, 1},
                              {LT_DEVICE_OPENCL, 0, 1}, {LT_DEVICE_OPENCL, 2, 4}};
   /* Under the sanitizers (LT_TEST_QUICK), the small scenes only: brute force is slow there. */
@@ -121,7 +112,7 @@ static size_t ao_rays(const lt_scene *scene, const lt_ray *primary, const lt_hit
  * reference, and the second batch built more nodes on top of the first's. */
 static void ondemand_second_batch_continues_on_the_partial_tree(void **state) {
   (void)state;
-  int have_opencl = opencl_available();
+  int have_opencl = lt_test_opencl_available();
   lt_scene *scene;
   assert_int_equal(lt_scene_load("house-row:2", &scene), LT_OK);
   size_t n = 64 * 64;

@@ -31,26 +31,11 @@ LT_DEVICE void lt_kd_trail_clear_below(lt_kd_trail *t, int depth) {
   for (int d = depth + 1; d < 64; d++) t->w[d >> 5] &= ~(1u << (d & 31));
 }
 
-/* The ray's stretch in a node's cell, widened by the plane margins as at the root; 0 when the
- * ray misses the cell. */
+/* The ray's stretch in a node's cell (lt_kd_box_stretch); 0 when the ray misses the cell. */
 LT_DEVICE int lt_kd_cell_stretch(const lt_kd_view *v, const lt_ray_setup *r, lt_i32 node, float *t_near, float *t_far) {
-  float tn = r->tmin, tf = r->tmax;
-  for (int k = 0; k < 3; k++) {
-    float lo_k = v->cells[6 * (long)node + k], hi_k = v->cells[6 * (long)node + 3 + k];
-    float o = r->org[k], d = r->dir[k];
-    if (d == 0.0f) {
-      if (o < lo_k || o > hi_k) return 0;
-      continue;
-    }
-    float t0 = (lo_k - o) / d, t1 = (hi_k - o) / d;
-    float lo = t0 < t1 ? t0 : t1, hi = t0 < t1 ? t1 : t0;
-    lo -= lt_kd_margin(d > 0.0f ? lo_k : hi_k, o, d, lo);
-    hi += lt_kd_margin(d > 0.0f ? hi_k : lo_k, o, d, hi);
-    tn = lo > tn ? lo : tn;
-    tf = hi < tf ? hi : tf;
-  }
-  *t_near = tn, *t_far = tf;
-  return tn <= tf;
+  float lo[3], hi[3];
+  for (int k = 0; k < 3; k++) lo[k] = v->cells[6 * (long)node + k], hi[k] = v->cells[6 * (long)node + 3 + k];
+  return lt_kd_box_stretch(r, lo, hi, t_near, t_far);
 }
 
 /* Traces a ray started with lt_kd_ray_start through a finished tree to its answer, without a

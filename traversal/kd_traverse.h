@@ -64,29 +64,37 @@ LT_DEVICE float lt_kd_margin(float p, float o, float d, float t) {
   return LT_KD_PLANE_EPS * ((fabs(p) + fabs(o)) / fabs(d) + fabs(t));
 }
 
+/* The ray's stretch [t_near, t_far] inside a box (the root cell, or any node's cell), within
+ * [tmin, tmax] and widened by the plane margins; 0 when the ray misses the box. */
+LT_DEVICE int lt_kd_box_stretch(const lt_ray_setup *r, const float lo_box[3], const float hi_box[3], float *t_near,
+                                float *t_far) {
+  float tn = r->tmin, tf = r->tmax;
+  for (int k = 0; k < 3; k++) {
+    float o = r->org[k], d = r->dir[k];
+    if (d == 0.0f) {
+      if (o < lo_box[k] || o > hi_box[k]) return 0;
+      continue;
+    }
+    float t0 = (lo_box[k] - o) / d, t1 = (hi_box[k] - o) / d;
+    float lo = t0 < t1 ? t0 : t1, hi = t0 < t1 ? t1 : t0;
+    lo -= lt_kd_margin(d > 0.0f ? lo_box[k] : hi_box[k], o, d, lo);
+    hi += lt_kd_margin(d > 0.0f ? hi_box[k] : lo_box[k], o, d, hi);
+    tn = lo > tn ? lo : tn;
+    tf = hi < tf ? hi : tf;
+  }
+  *t_near = tn, *t_far = tf;
+  return tn <= tf;
+}
+
 /* Starts a ray given in the ray file's layout (8 floats): its stretch inside the scene's box,
- * widened by the margins, or done at once when it misses the box. */
+ * or done at once when it misses the box. */
 LT_DEVICE void lt_kd_ray_start(lt_kd_ray *q, LT_GLOBAL const float *ray, const lt_box *bounds) {
   q->r = lt_ray_prepare(ray[0], ray[1], ray[2], ray[3], ray[4], ray[5], ray[6], ray[7]);
   q->hit.t = q->r.tmax, q->hit.u = q->hit.v = 0.0f, q->hit.prim = -1;
   q->sp = 0, q->wait = -1, q->overflow = 0;
   q->cur.address = -1;
-  if (!q->r.valid) return;
-  float t_near = q->r.tmin, t_far = q->r.tmax;
-  for (int k = 0; k < 3; k++) {
-    float o = q->r.org[k], d = q->r.dir[k];
-    if (d == 0.0f) {
-      if (o < bounds->lo[k] || o > bounds->hi[k]) return;
-      continue;
-    }
-    float t0 = (bounds->lo[k] - o) / d, t1 = (bounds->hi[k] - o) / d;
-    float lo = t0 < t1 ? t0 : t1, hi = t0 < t1 ? t1 : t0;
-    lo -= lt_kd_margin(d > 0.0f ? bounds->lo[k] : bounds->hi[k], o, d, lo);
-    hi += lt_kd_margin(d > 0.0f ? bounds->hi[k] : bounds->lo[k], o, d, hi);
-    t_near = lo > t_near ? lo : t_near;
-    t_far = hi < t_far ? hi : t_far;
-  }
-  if (!(t_near <= t_far)) return;
+  float t_near, t_far;
+  if (!q->r.valid || !lt_kd_box_stretch(&q->r, bounds->lo, bounds->hi, &t_near, &t_far)) return;
   q->cur.address = 0, q->cur.t_near = t_near, q->cur.t_far = t_far;
   q->t_near = t_near, q->t_far = t_far;
 }
