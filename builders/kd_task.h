@@ -139,7 +139,7 @@ LT_DEVICE lt_box lt_kd_clipped_box(const lt_kd_build *b, lt_i32 prim, const lt_b
   lt_box box = lt_box_empty(), own = lt_kd_prim_box(b, prim);
   for (int i = 0; i < n; i++)
     for (int k = 0; k < 3; k++) {
-      float x = (float)poly[cur][i][k], step = (exact[cur][i] >> k & 1) ? 0.0f : fabs(x) * 2.4e-7f + 1e-30f;
+      float x = (float)poly[cur][i][k], step = (exact[cur][i] >> k & 1) ? 0.0f : lt_fabsf(x) * 2.4e-7f + 1e-30f;
       float lo = x - step, hi = x + step;
       box.lo[k] = lo < box.lo[k] ? lo : box.lo[k];
       box.hi[k] = hi > box.hi[k] ? hi : box.hi[k];

@@ -93,6 +93,8 @@ static inline float lt_int_as_float(int32_t i) {
   return x;
 }
 #define lt_isfinite(x) isfinite(x)
+/* The magnitude of a float as a float: C's fabs would take every operation after it into double. */
+#define lt_fabsf(x) fabsf(x)
 
 /* Sequentially consistent, like OpenCL 1.2's atomic_* on global memory used as a fence here. */
 #define lt_atomic_add_u32(p, v) __atomic_fetch_add((p), (v), __ATOMIC_SEQ_CST)

@@ -52,6 +52,7 @@ LT_DEVICE int lt_v4_any_ge(float4 a, float4 b) { return any(a >= b); }
 #define lt_float_as_int(x) as_int(x)
 #define lt_int_as_float(x) as_float(x)
 #define lt_isfinite(x) isfinite(x)
+#define lt_fabsf(x) fabs(x)
 
 #define lt_atomic_add_u32(p, v) atomic_add((volatile LT_GLOBAL uint *)(p), (v))
 #define lt_atomic_cas_u32(p, expected, desired) \

@@ -68,7 +68,7 @@ LT_DEVICE float lt_grid_crossing(const lt_grid_walk *w, int u) {
  * below is written so that NaN reads as "before". */
 LT_DEVICE float lt_grid_widen(float t, int widen) {
   if (!widen) return t;
-  t += fabs(t) * LT_SLAB_ROUNDING_EPS;
+  t += lt_fabsf(t) * LT_SLAB_ROUNDING_EPS;
   return t;
 }
 

@@ -61,7 +61,7 @@ typedef struct lt_kd_ray {
 
 /* The margin of a plane distance (p - o) / d: see LT_KD_PLANE_EPS. */
 LT_DEVICE float lt_kd_margin(float p, float o, float d, float t) {
-  return LT_KD_PLANE_EPS * ((fabs(p) + fabs(o)) / fabs(d) + fabs(t));
+  return LT_KD_PLANE_EPS * ((lt_fabsf(p) + lt_fabsf(o)) / lt_fabsf(d) + lt_fabsf(t));
 }
 
 /* The ray's stretch [t_near, t_far] inside a box (the root cell, or any node's cell), within
@@ -111,7 +111,7 @@ LT_DEVICE lt_hit_record lt_kd_ray_answer(const lt_kd_ray *q) {
  * in the triangle box's slab interval, whose bound is LT_SLAB_ROUNDING_EPS). */
 LT_DEVICE float lt_kd_reach(const lt_kd_ray *q, const lt_hit_record *hit) {
   if (hit->prim < 0) return q->r.tmax;
-  return hit->t + fabs(hit->t) * (2.0f * LT_SLAB_ROUNDING_EPS);
+  return hit->t + lt_fabsf(hit->t) * (2.0f * LT_SLAB_ROUNDING_EPS);
 }
 
 /* Intersects a leaf's references. */

@@ -69,7 +69,7 @@ LT_DEVICE lt_ray_setup lt_ray_prepare(float ox, float oy, float oz, float tmin, 
 #endif
 
   /* kz is the dimension where |dir| is largest; swapping kx and ky keeps the winding. */
-  float ax = fabs(dx), ay = fabs(dy), az = fabs(dz);
+  float ax = lt_fabsf(dx), ay = lt_fabsf(dy), az = lt_fabsf(dz);
   r.kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
   r.kx = r.kz == 2 ? 0 : r.kz + 1;
   r.ky = r.kx == 2 ? 0 : r.kx + 1;
@@ -108,7 +108,7 @@ LT_DEVICE int lt_ray_slabs(const lt_ray_setup *r, const float lo[3], const float
       near_t = l > near_t ? l : near_t;
       far_t = h < far_t ? h : far_t;
     }
-    if (widen) far_t += fabs(far_t) * LT_SLAB_ROUNDING_EPS;
+    if (widen) far_t += lt_fabsf(far_t) * LT_SLAB_ROUNDING_EPS;
     *t_near = near_t;
     *t_far = far_t;
     return 1;
@@ -126,7 +126,7 @@ LT_DEVICE int lt_ray_slabs(const lt_ray_setup *r, const float lo[3], const float
     near_t = t_lo > near_t ? t_lo : near_t;
     far_t = t_hi < far_t ? t_hi : far_t;
   }
-  if (widen) far_t += fabs(far_t) * LT_SLAB_ROUNDING_EPS;
+  if (widen) far_t += lt_fabsf(far_t) * LT_SLAB_ROUNDING_EPS;
   *t_near = near_t;
   *t_far = far_t;
   return 1;
