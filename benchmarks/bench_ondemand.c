@@ -235,24 +235,18 @@ static int sweep(int runs, int size, int max, FILE *csv) {
     batch b = {rays, n, 0};
     figures f[METHODS];
     if (run_all(scene, &b, 1, runs, f)) return 1;
-    if (methods_run == KD_METHODS) {
-      /* The kd-tree's columns in the BVH's places, the full BVH where the LBVH was. */
-      f[FULL].nodes = f[KD_FULL].nodes, f[REQUESTED].nodes = f[KD_REQUESTED].nodes;
-      f[SPECULATIVE].nodes = f[KD_SPECULATIVE].nodes;
-      memcpy(f[LBVH].total, f[FULL].total, sizeof f[LBVH].total);
-      memcpy(f[FULL].total, f[KD_FULL].total, sizeof f[FULL].total);
-      memcpy(f[REQUESTED].total, f[KD_REQUESTED].total, sizeof f[REQUESTED].total);
-      memcpy(f[SPECULATIVE].total, f[KD_SPECULATIVE].total, sizeof f[SPECULATIVE].total);
-    }
+    /* The columns' methods: full, requested, speculative, a fourth for comparison, Embree. */
+    static const int bvh_columns[5] = {FULL, REQUESTED, SPECULATIVE, LBVH, EMBREE};
+    static const int kd_columns[5] = {KD_FULL, KD_REQUESTED, KD_SPECULATIVE, FULL, EMBREE};
+    const int *col = methods_run == KD_METHODS ? kd_columns : bvh_columns;
+    double ms[5];
+    for (int c = 0; c < 5; c++) ms[c] = f[col[c]].ok ? lt_bench_median(f[col[c]].total, runs) : -1.0;
     printf("| %d | %zu | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f |\n", counts[i],
-           lt_scene_triangle_count(scene), f[FULL].nodes, f[REQUESTED].nodes, f[SPECULATIVE].nodes,
-           lt_bench_median(f[FULL].total, runs), lt_bench_median(f[REQUESTED].total, runs), lt_bench_median(f[SPECULATIVE].total, runs),
-           lt_bench_median(f[LBVH].total, runs), f[EMBREE].ok ? lt_bench_median(f[EMBREE].total, runs) : -1.0);
+           lt_scene_triangle_count(scene), f[col[0]].nodes, f[col[1]].nodes, f[col[2]].nodes, ms[0], ms[1], ms[2], ms[3],
+           ms[4]);
     if (csv)
       fprintf(csv, "%d,%zu,%.0f,%.0f,%.0f,%.2f,%.2f,%.2f,%.2f,%.2f\n", counts[i], lt_scene_triangle_count(scene),
-              f[FULL].nodes, f[REQUESTED].nodes, f[SPECULATIVE].nodes, lt_bench_median(f[FULL].total, runs),
-              lt_bench_median(f[REQUESTED].total, runs), lt_bench_median(f[SPECULATIVE].total, runs), lt_bench_median(f[LBVH].total, runs),
-              f[EMBREE].ok ? lt_bench_median(f[EMBREE].total, runs) : -1.0);
+              f[col[0]].nodes, f[col[1]].nodes, f[col[2]].nodes, ms[0], ms[1], ms[2], ms[3], ms[4]);
     free(rays);
     lt_scene_destroy(scene);
   }

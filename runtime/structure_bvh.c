@@ -7,6 +7,7 @@
 #include "kernels/native_kernels.h"
 #include "runtime/bvh_ondemand_host.h"
 #include "runtime/kernel_args_host.h"
+#include "runtime/ondemand_trace.h"
 #include "runtime/trace_launch.h"
 #include "runtime/context_internal.h"
 #include "runtime/error.h"
@@ -51,10 +52,13 @@ static lt_status start(lt_structure *s, lt_stats *stats) {
   return status;
 }
 
+/* Whether the pool and the node heap may still grow. */
+static int may_grow(const bvh_state *b) { return b->pool_capacity < MAX_POOL && b->node_capacity < INT32_MAX / 2; }
+
 /* Starts again from scratch with twice the room, while the pool or the node heap fills up. */
 static lt_status with_retry(lt_structure *s, lt_stats *stats, lt_status status) {
   bvh_state *b = s->state;
-  while (status == LT_ERROR_CAPACITY && b->pool_capacity < MAX_POOL && b->node_capacity < INT32_MAX / 2) {
+  while (status == LT_ERROR_CAPACITY && may_grow(b)) {
     int heap_full = b->live && lt__ondemand_heap_full(&b->od);
     if (!s->ctx->quiet)
       fprintf(stderr, "lazytrace: %s; retrying with %s of %d\n", lt_last_error(), heap_full ? "a node heap" : "a pool",
@@ -92,35 +96,19 @@ static lt_status trace_finished(lt_structure *s, const lt_ray *rays, int count, 
   return lt__trace_finished(s->ctx, &call, rays, count, flags, hits, stats);
 }
 
-/* One launch builds what the rays need while tracing them (time to image); with statistics
- * asked for, a second launch traces the same rays on the tree as built, which is the trace
- * time, and build time is the difference (the paper's convention). */
-static lt_status trace(lt_structure *s, const lt_ray *rays, int count, int flags, lt_hit *hits, lt_stats *stats) {
+static lt_status launch(lt_structure *s, const lt_ray *rays, int count, int flags, lt_hit *hits, int speculate,
+                        lt_stats *stats) {
   bvh_state *b = s->state;
+  return lt__ondemand_launch(&b->od, rays, count, flags, hits, speculate, stats);
+}
+
+static int may_grow_structure(const lt_structure *s) { return may_grow(s->state); }
+
+/* A full build's tree is traced by the plain kernel; on demand, lt__ondemand_trace. */
+static lt_status trace(lt_structure *s, const lt_ray *rays, int count, int flags, lt_hit *hits, lt_stats *stats) {
+  static const lt__ondemand_ops ops = {launch, may_grow_structure, with_retry};
   if (mode_of(s) == LT_BUILD_FULL) return trace_finished(s, rays, count, flags, hits, stats);
-  int speculate = mode_of(s) == LT_BUILD_SPECULATIVE;
-  double begin = lt_now_ms();
-  lt_status status = lt__ondemand_launch(&b->od, rays, count, flags, hits, speculate, stats);
-  while (status == LT_ERROR_CAPACITY && b->pool_capacity < MAX_POOL && b->node_capacity < INT32_MAX / 2) {
-    status = with_retry(s, stats, status);
-    begin = lt_now_ms();
-    if (!status) status = lt__ondemand_launch(&b->od, rays, count, flags, hits, speculate, stats);
-  }
-  double total = lt_now_ms() - begin;
-  if (status || !stats) return status;
-  if (mode_of(s) == LT_BUILD_FULL) {
-    lt__stats_add(stats, LT_STAT_TRACE_MS, total);
-    return LT_OK;
-  }
-  lt_stats *again;
-  if ((status = lt_stats_create(&again))) return status;
-  double retrace_start = lt_now_ms();
-  status = lt__ondemand_launch(&b->od, rays, count, flags, hits, 0, again);
-  double retrace = lt_now_ms() - retrace_start;
-  lt_stats_destroy(again);
-  lt__stats_add(stats, LT_STAT_TRACE_MS, retrace);
-  lt__stats_add(stats, LT_STAT_BUILD_MS, total > retrace ? total - retrace : 0.0);
-  return status;
+  return lt__ondemand_trace(s, &ops, rays, count, flags, hits, stats);
 }
 
 static void put_stats(lt_structure *s, lt_stats *stats) {

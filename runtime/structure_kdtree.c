@@ -11,6 +11,7 @@
 #include "runtime/error.h"
 #include "runtime/kd_ondemand_host.h"
 #include "runtime/kernel_args_host.h"
+#include "runtime/ondemand_trace.h"
 #include "runtime/registry.h"
 #include "runtime/stats_internal.h"
 #include "runtime/trace_launch.h"
@@ -113,35 +114,19 @@ static lt_status trace_finished(lt_structure *s, const lt_ray *rays, int count, 
   return lt__trace_finished(s->ctx, &call, rays, count, flags, hits, stats);
 }
 
-/* As the BVH: one launch builds what the rays need while tracing them (time to image); with
- * statistics asked for, a second launch traces the same rays on the tree as built, which is
- * the trace time, and build time is the difference. */
-static lt_status trace(lt_structure *s, const lt_ray *rays, int count, int flags, lt_hit *hits, lt_stats *stats) {
+static lt_status launch(lt_structure *s, const lt_ray *rays, int count, int flags, lt_hit *hits, int speculate,
+                        lt_stats *stats) {
   kd_state *k = s->state;
+  return lt__kd_launch(&k->kd, rays, count, flags, hits, speculate, stats);
+}
+
+static int may_grow_structure(const lt_structure *s) { return may_grow(s->state); }
+
+/* A full build's tree is traced by the plain kernel; on demand, lt__ondemand_trace. */
+static lt_status trace(lt_structure *s, const lt_ray *rays, int count, int flags, lt_hit *hits, lt_stats *stats) {
+  static const lt__ondemand_ops ops = {launch, may_grow_structure, with_retry};
   if (mode_of(s) == LT_BUILD_FULL) return trace_finished(s, rays, count, flags, hits, stats);
-  int speculate = mode_of(s) == LT_BUILD_SPECULATIVE;
-  double begin = lt_now_ms();
-  lt_status status = lt__kd_launch(&k->kd, rays, count, flags, hits, speculate, stats);
-  while (status == LT_ERROR_CAPACITY && may_grow(k)) {
-    status = with_retry(s, stats, status);
-    begin = lt_now_ms();
-    if (!status) status = lt__kd_launch(&k->kd, rays, count, flags, hits, speculate, stats);
-  }
-  double total = lt_now_ms() - begin;
-  if (status || !stats) return status;
-  if (mode_of(s) == LT_BUILD_FULL) {
-    lt__stats_add(stats, LT_STAT_TRACE_MS, total);
-    return LT_OK;
-  }
-  lt_stats *again;
-  if ((status = lt_stats_create(&again))) return status;
-  double retrace_start = lt_now_ms();
-  status = lt__kd_launch(&k->kd, rays, count, flags, hits, 0, again);
-  double retrace = lt_now_ms() - retrace_start;
-  lt_stats_destroy(again);
-  lt__stats_add(stats, LT_STAT_TRACE_MS, retrace);
-  lt__stats_add(stats, LT_STAT_BUILD_MS, total > retrace ? total - retrace : 0.0);
-  return status;
+  return lt__ondemand_trace(s, &ops, rays, count, flags, hits, stats);
 }
 
 static void put_stats(lt_structure *s, lt_stats *stats) {

@@ -28,7 +28,13 @@ LT_DEVICE int lt_kd_trail_bit(const lt_kd_trail *t, int depth) { return (int)(t-
 LT_DEVICE void lt_kd_trail_set(lt_kd_trail *t, int depth) { t->w[depth >> 5] |= 1u << (depth & 31); }
 /* Clears the bits of the levels below `depth` (depth + 1 and deeper). */
 LT_DEVICE void lt_kd_trail_clear_below(lt_kd_trail *t, int depth) {
-  for (int d = depth + 1; d < 64; d++) t->w[d >> 5] &= ~(1u << (d & 31));
+  int from = depth + 1; /* the first bit cleared */
+  if (from < 32) {
+    t->w[0] &= (1u << from) - 1u;
+    t->w[1] = 0;
+  } else if (from < 64) {
+    t->w[1] &= (1u << (from - 32)) - 1u;
+  }
 }
 
 /* The ray's stretch in a node's cell (lt_kd_box_stretch); 0 when the ray misses the cell. */
