@@ -184,7 +184,8 @@ lt_status lt_stats_write_json(const lt_stats *stats, FILE *out);
   X(LT_STRUCTURE_BVH, bvh)   /* binned SAH BVH through the task pool: full or on demand */   \
   X(LT_STRUCTURE_LBVH, lbvh) /* Morton-code LBVH with an SAH top, built on the host: full */ \
   X(LT_STRUCTURE_GRID, grid) /* uniform grid (Thrane and Simonsen 2005), on the host: full */ \
-  X(LT_STRUCTURE_KDTREE, kdtree) /* binned SAH kd-tree through the task pool: full or on demand */
+  X(LT_STRUCTURE_KDTREE, kdtree) /* binned SAH kd-tree through the task pool: full or on demand */ \
+  X(LT_STRUCTURE_IRGRID, irgrid) /* irregular grid through the task pool: full or top cells on demand */
 
 typedef enum {
 #define LT_STRUCTURE_ENUM(kind, entry) kind,
@@ -218,6 +219,12 @@ typedef struct lt_structure_config {
   int kd_traversal;       /* kd-tree: LT_KD_TRAVERSAL_*; default STACK */
   int kd_split;           /* kd-tree: LT_KD_SPLIT_*; default BINNED */
   int kd_clip;            /* kd-tree: LT_KD_CLIP_*; default OFF */
+  float irgrid_top_density;  /* irregular grid: top cells per triangle (lambda1); default 0.12 */
+  float irgrid_cell_density; /* irregular grid: sub-voxels per reference of a top cell (lambda2); default 2.4 */
+  int irgrid_merge;          /* irregular grid: LT_IRGRID_MERGE_*; default ON (OFF: the two-level grid) */
+  float irgrid_merge_alpha;  /* irregular grid: merging stops when a round of passes merges fewer
+                                than 1 - alpha of the cells; default 0.995 */
+  int irgrid_expansion_passes; /* irregular grid: LT_IRGRID_PASSES(n) for n passes; default 3 */
 } lt_structure_config;
 
 /* The kd-tree's choices (0 in a config: the default). Traversal: front to back with a stack, or
@@ -228,6 +235,11 @@ typedef struct lt_structure_config {
 enum { LT_KD_TRAVERSAL_STACK = 1, LT_KD_TRAVERSAL_RESTART, LT_KD_TRAVERSAL_BACKTRACK };
 enum { LT_KD_SPLIT_BINNED = 1, LT_KD_SPLIT_SWEEP };
 enum { LT_KD_CLIP_OFF = 1, LT_KD_CLIP_ON };
+/* The irregular grid's choices (0 in a config: the default): merging on or off, and the number
+ * of expansion passes, 0 to 8, written LT_IRGRID_PASSES(n) so that 0 can stay "the default". */
+enum { LT_IRGRID_MERGE_ON = 1, LT_IRGRID_MERGE_OFF };
+#define LT_IRGRID_PASSES(n) ((n) + 1)
+#define LT_IRGRID_MAX_PASSES 8
 
 /* The defaults of a structure, every field filled in. */
 lt_structure_config lt_structure_config_default(lt_structure_kind kind);

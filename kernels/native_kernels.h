@@ -25,5 +25,9 @@ void lt__native_bvh_trace_index_kernel(void *arg);
 void lt__native_kd_trace_kernel(void *arg);
 /* kernels/native_grid_trace.c: arg is an lt__native_trace_launch over an lt_grid_trace_view. */
 void lt__native_grid_trace_kernel(void *arg);
+/* kernels/native_irgrid_ondemand.c: arg is an lt__native_launch over an lt_irg_args. */
+void lt__native_irgrid_ondemand_kernel(void *arg);
+/* kernels/native_irgrid_trace.c: arg is an lt__native_trace_launch over an lt_irg_trace_view. */
+void lt__native_irgrid_trace_kernel(void *arg);
 
 #endif

@@ -6,3 +6,5 @@
 #include "kernels/bvh_ondemand.cl"
 #include "kernels/kd_ondemand.cl"
 #include "kernels/kd_trace.cl"
+#include "kernels/irgrid_ondemand.cl"
+#include "kernels/irgrid_trace.cl"

@@ -26,6 +26,13 @@
   X(LT_STAT_MAX_DEPTH, "max_depth")          \
   X(LT_STAT_SAH_COST, "sah_cost")            \
   X(LT_STAT_SKIPPED_TRIANGLES, "skipped_triangles") \
+  X(LT_STAT_MAP_BYTES, "map_bytes")          \
+  X(LT_STAT_CELLS_TOP, "cells.top")          \
+  X(LT_STAT_CELLS_TOP_BUILT, "cells.top_built") \
+  X(LT_STAT_CELLS_INITIAL, "cells.initial")  \
+  X(LT_STAT_CELLS_FINAL, "cells.final")      \
+  X(LT_STAT_CELLS_MERGES, "cells.merges")    \
+  X(LT_STAT_CELLS_EXPANSIONS, "cells.expansions") \
   X(LT_STAT_POOL_TASKS, "pool.tasks")        \
   X(LT_STAT_POOL_REQUESTED, "pool.requested") \
   X(LT_STAT_POOL_SPECULATIVE, "pool.speculative") \

@@ -36,6 +36,11 @@ static lt_structure_config resolve(const lt_structure_config *config, const lt__
   if (c.kd_traversal <= 0) c.kd_traversal = d.kd_traversal;
   if (c.kd_split <= 0) c.kd_split = d.kd_split;
   if (c.kd_clip <= 0) c.kd_clip = d.kd_clip;
+  if (c.irgrid_top_density <= 0) c.irgrid_top_density = d.irgrid_top_density;
+  if (c.irgrid_cell_density <= 0) c.irgrid_cell_density = d.irgrid_cell_density;
+  if (c.irgrid_merge <= 0) c.irgrid_merge = d.irgrid_merge;
+  if (c.irgrid_merge_alpha <= 0) c.irgrid_merge_alpha = d.irgrid_merge_alpha;
+  if (c.irgrid_expansion_passes <= 0) c.irgrid_expansion_passes = d.irgrid_expansion_passes;
   return c;
 }
 
@@ -104,6 +109,16 @@ lt_status lt_structure_create(lt_context *ctx, const lt_scene *scene, const lt_s
       (unsigned)config->kd_clip > LT_KD_CLIP_ON)
     return lt__fail(LT_ERROR_INVALID_ARGUMENT, "bad kd-tree choice (traversal %d, split %d, clip %d): see LT_KD_* in lazytrace.h",
                     config->kd_traversal, config->kd_split, config->kd_clip);
+  if (!(config->irgrid_top_density >= 0.0f && config->irgrid_top_density < INFINITY) ||
+      !(config->irgrid_cell_density >= 0.0f && config->irgrid_cell_density < INFINITY) ||
+      !(config->irgrid_merge_alpha >= 0.0f && config->irgrid_merge_alpha <= 1.0f) ||
+      (unsigned)config->irgrid_merge > LT_IRGRID_MERGE_OFF ||
+      (unsigned)config->irgrid_expansion_passes > LT_IRGRID_PASSES(LT_IRGRID_MAX_PASSES))
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT,
+                    "bad irregular grid config (top density %g, cell density %g, merge %d, alpha %g, expansion %d): "
+                    "densities positive and finite, alpha in (0, 1], see LT_IRGRID_* in lazytrace.h",
+                    (double)config->irgrid_top_density, (double)config->irgrid_cell_density, config->irgrid_merge,
+                    (double)config->irgrid_merge_alpha, config->irgrid_expansion_passes);
   if (lt_scene_triangle_count(scene) == 0) return lt__fail(LT_ERROR_EMPTY_SCENE, "the scene has no triangles");
 
   lt_structure *s;

@@ -1,0 +1,67 @@
+/* The irregular grid (Perard-Gayot, Kalojanov and Slusallek 2017): its cells and its voxel map,
+ * and the one way every side finds the cell of a voxel.
+ *
+ * Everything is placed on a fine virtual grid (an lt_grid_header, device/grid_cells.h): the
+ * top-level grid's cells are blocks of 2^shift fine voxels per axis, and a top cell of level
+ * l is cut into 2^l sub-voxels per axis, each 2^(shift - l) fine voxels wide. Cells are boxes of
+ * fine voxels, so the planes between any two cells are the fine grid's plane floats
+ * (lt_grid_plane), which the builder decides references against and the traversal computes
+ * its crossings from: both agree bit for bit about where a cell ends, as in the uniform grid.
+ *
+ *   top_map    one entry per top cell, x fastest:
+ *                >= 0   built: level (bits 28..30) and the index of its sub-map (bits 0..27)
+ *                -1     the top level is still being counted (wait)
+ *                <= -2  not built yet: -2 - slot, the pool slot of the task that builds it
+ *   sub_maps   per built top cell, 8^level cell numbers, sub-voxels x fastest
+ *   cells      lt_irg_cell: the box the traversal leaves through and the cell's references
+ *   refs       triangle numbers, ascending within a cell
+ *
+ * A cell's box may be larger than the voxels that map to it: expansion grows it over
+ * neighbouring voxels all of whose triangles the cell already references (see
+ * builders/irgrid_task.h), so that a ray leaves it later and skips what it would test again. */
+#ifndef LT_DEVICE_IRGRID_CELLS_H
+#define LT_DEVICE_IRGRID_CELLS_H
+
+#include "device/grid_cells.h"
+
+/* The deepest subdivision of a top cell: 2^5 = 32 sub-voxels per axis. The fine grid is the
+ * top grid refined this many times, whatever the levels of the top cells turn out to be. */
+#define LT_IRG_MAX_LEVEL 5
+
+#define LT_IRG_COUNTING (-1)
+#define LT_IRG_UNBUILT(slot) (-2 - (slot))
+#define LT_IRG_UNBUILT_SLOT(entry) (-2 - (entry))
+#define LT_IRG_ENTRY(level, base) (((level) << 28) | (base))
+#define LT_IRG_ENTRY_LEVEL(entry) ((entry) >> 28)
+#define LT_IRG_ENTRY_BASE(entry) ((entry) & 0x0fffffff)
+#define LT_IRG_MAX_MAP 0x0fffffff
+
+/* One cell: 32 bytes. */
+typedef struct lt_irg_cell {
+  lt_i32 lo[3], hi[3]; /* the box, fine voxels [lo, hi) on each axis */
+  lt_i32 begin, end;   /* its references: refs[begin .. end) */
+} lt_irg_cell;
+
+#ifndef __OPENCL_VERSION__
+_Static_assert(sizeof(lt_irg_cell) == 32, "lt_irg_cell is 32 bytes on both sides");
+#endif
+
+/* The top cell holding fine voxel (x, y, z), for a fine grid of fine_dims and a given shift. */
+LT_DEVICE lt_i32 lt_irg_top_of(lt_int4 fine_dims, int shift, int x, int y, int z) {
+  int tx = fine_dims.x >> shift, ty = fine_dims.y >> shift;
+  return lt_grid_cell_index(tx, ty, x >> shift, y >> shift, z >> shift);
+}
+
+/* The cell of fine voxel (x, y, z): its number (>= 0), or the top map's entry when the top
+ * cell is not built (< 0). The entry is read with acquire ordering: a built entry is published
+ * after the sub-map and the cells it leads to. */
+LT_DEVICE lt_i32 lt_irg_lookup(LT_GLOBAL const lt_i32 *top_map, LT_GLOBAL const lt_i32 *sub_maps, lt_int4 fine_dims,
+                               int shift, int x, int y, int z) {
+  lt_i32 entry = lt_atomic_load_acquire_i32((LT_GLOBAL lt_i32 *)&top_map[lt_irg_top_of(fine_dims, shift, x, y, z)]);
+  if (entry < 0) return entry;
+  int level = LT_IRG_ENTRY_LEVEL(entry), down = shift - level, mask = (1 << level) - 1;
+  int sx = (x >> down) & mask, sy = (y >> down) & mask, sz = (z >> down) & mask;
+  return sub_maps[LT_IRG_ENTRY_BASE(entry) + sx + ((sy + (sz << level)) << level)];
+}
+
+#endif

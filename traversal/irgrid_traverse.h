@@ -1,0 +1,234 @@
+/* Closest-hit and any-hit traversal of the irregular grid (Perard-Gayot, Kalojanov and
+ * Slusallek 2017, section 4), on demand: a ray that reaches a top cell not built yet asks for
+ * its task and suspends, keeping its walk and best hit.
+ *
+ * The walk is the uniform grid's conservative 3D-DDA (traversal/grid_traverse.h) run over the
+ * fine virtual grid, with one change that makes it an irregular grid's walk: after testing the
+ * cells of the voxels around the ray, it jumps to T, the earliest exit from those cells' boxes
+ * (the far planes, crossed with the fine grid's own arithmetic), instead of stepping voxel by
+ * voxel through them. Every voxel boundary before T is skipped; those at T and later are taken
+ * as the uniform walk takes them. So the paper's "leave through the cell's far planes, look up
+ * the next voxel" is done with the uniform walk's exactness, and a step never goes back.
+ *
+ * Why skipping loses no hit. The uniform walk is exact (grid_traverse.h): the reference's hit W
+ * lies in some voxel of the walk's product of per-axis ranges at or before the walk stops, and
+ * the cell of every voxel references every triangle that meets the voxel. Take the product P
+ * just visited and T = the least exit, over the cells of P's voxels, of their (grown) boxes. A
+ * boundary crossed before T enters, on each axis k, a voxel below every such box's far face,
+ * since crossings never decrease with the voxel number. So a voxel v of a product the uniform
+ * walk would visit before T has, on each axis, v_k between P's lowest index (ranges only drop
+ * voxels at their low end) and every box's far face; let u_k be v_k or P's highest index on that
+ * axis, whichever is lower. u is in P, its cell's box holds u and reaches past v on every axis,
+ * so it holds v. Every triangle that meets v then meets that box and, by the builder's
+ * expansion rule, meets the cell's box before expansion: the cell references it and it has
+ * been tested. A hit found before T makes the walk stop at the next boundary after T with
+ * nothing between untested, as the uniform walk would.
+ *
+ * The stopping rule and the ranges are the uniform walk's; the cells of a product are tested
+ * once each (a few recent ones are remembered, so a cell the walk meets again is not retested:
+ * retesting would change nothing but the counts). */
+#ifndef LT_IRGRID_TRAVERSE_H
+#define LT_IRGRID_TRAVERSE_H
+
+#include "device/irgrid_cells.h"
+#include "device/pool.h"
+#include "traversal/grid_traverse.h"
+
+/* Cells a ray remembers having tested. */
+#define LT_IRG_RECENT 4
+
+/* What traversal reads. */
+typedef struct lt_irg_view {
+  LT_GLOBAL const lt_grid_header *header; /* the fine grid */
+  LT_GLOBAL const lt_i32 *top_map, *sub_maps, *refs;
+  LT_GLOBAL const lt_irg_cell *cells;
+  LT_GLOBAL const float *verts;
+  const lt_pool *pool; /* on demand: where unbuilt top cells are requested; NULL when all are built */
+  lt_int4 fine_dims;
+  int shift;
+} lt_irg_view;
+
+enum { LT_IRG_RAY_START = 0, LT_IRG_RAY_VISIT, LT_IRG_RAY_DONE };
+
+/* A ray in flight. */
+typedef struct lt_irg_ray {
+  lt_ray_setup r;
+  lt_hit_record hit;
+  lt_grid_walk w[3];
+  int lo[3], hi[3]; /* the voxels (travel indices) still to visit */
+  float t_far;      /* the grid's widened exit */
+  lt_i32 state;
+  lt_i32 recent[LT_IRG_RECENT];
+  lt_i32 recent_next;
+  lt_i32 wait; /* the top cell it waits for, or -1 */
+} lt_irg_ray;
+
+LT_DEVICE void lt_irg_ray_start(lt_irg_ray *q, LT_GLOBAL const float *ray, int flags) {
+  q->r = lt_ray_prepare(ray[0], ray[1], ray[2], ray[3], ray[4], ray[5], ray[6], ray[7]);
+  q->r.flags = flags;
+  q->hit.t = q->r.tmax, q->hit.u = q->hit.v = 0.0f, q->hit.prim = -1;
+  q->state = LT_IRG_RAY_START, q->wait = -1, q->recent_next = 0;
+  for (int i = 0; i < LT_IRG_RECENT; i++) q->recent[i] = -1;
+}
+
+LT_DEVICE lt_hit_record lt_irg_ray_answer(const lt_irg_ray *q) {
+  lt_hit_record hit = q->hit;
+  if (hit.prim < 0) hit.t = INFINITY, hit.u = hit.v = 0.0f;
+  return hit;
+}
+
+/* The fine voxel at travel indices (ux, uy, uz). */
+LT_DEVICE void lt_irg_voxel_at(const lt_irg_ray *q, int ux, int uy, int uz, int v[3]) {
+  v[0] = lt_grid_cell_of(&q->w[0], ux), v[1] = lt_grid_cell_of(&q->w[1], uy), v[2] = lt_grid_cell_of(&q->w[2], uz);
+}
+
+/* The cell of the voxel at travel indices u, or the top map's entry (< 0) if not built. */
+LT_DEVICE lt_i32 lt_irg_cell_at(const lt_irg_view *v, const lt_irg_ray *q, int ux, int uy, int uz) {
+  int x[3];
+  lt_irg_voxel_at(q, ux, uy, uz, x);
+  return lt_irg_lookup(v->top_map, v->sub_maps, v->fine_dims, v->shift, x[0], x[1], x[2]);
+}
+
+/* Where the ray leaves a cell's box: the least crossing of its far faces. */
+LT_DEVICE float lt_irg_exit(const lt_irg_ray *q, LT_GLOBAL const lt_irg_cell *cell) {
+  float t = INFINITY;
+  for (int k = 0; k < 3; k++) {
+    const lt_grid_walk *w = &q->w[k];
+    if (w->sign == 0) continue;
+    float c = lt_grid_crossing(w, w->sign > 0 ? cell->hi[k] : w->axis.n - cell->lo[k]);
+    t = c < t ? c : t;
+  }
+  return t;
+}
+
+/* Tests a cell's triangles unless it was tested lately; 1 when an any-hit query is answered. */
+LT_DEVICE int lt_irg_test_cell(const lt_irg_view *v, lt_irg_ray *q, lt_i32 cell, int any_hit, lt_trace_counters *c) {
+  for (int i = 0; i < LT_IRG_RECENT; i++)
+    if (q->recent[i] == cell) return 0;
+  q->recent[q->recent_next] = cell;
+  q->recent_next = (q->recent_next + 1) % LT_IRG_RECENT;
+  c->traversal_steps++;
+  LT_GLOBAL const lt_irg_cell *p = &v->cells[cell];
+  for (lt_i32 i = p->begin; i < p->end; i++) {
+    lt_i32 prim = v->refs[i];
+    LT_GLOBAL const float *t = v->verts + 9 * (long)prim;
+    float v0[3] = {t[0], t[1], t[2]}, v1[3] = {t[3], t[4], t[5]}, v2[3] = {t[6], t[7], t[8]};
+    c->intersections++;
+    if (lt_intersect_triangle(&q->r, v0, v1, v2, prim, &q->hit) && any_hit) return 1;
+  }
+  return 0;
+}
+
+/* Moves axis k's range to where the walk is just before T: the last voxel entered before T,
+ * and back to the first whose widened exit is not before T. */
+LT_DEVICE void lt_irg_skip_axis(lt_grid_walk *w, const lt_ray_setup *r, int k, float T, int widen) {
+  if (w->sign == 0) return;
+  int n = w->axis.n, u = w->last;
+  if (u + 1 < n && w->next_entry < T) {
+    float x = r->org[k] + T * r->dir[k];
+    if (x == x && x > -INFINITY && x < INFINITY) {
+      int g = lt_grid_cell_guess(&w->axis, x);
+      g = w->sign > 0 ? g : n - 1 - g;
+      u = g > u ? g : u;
+    }
+    while (u + 1 < n && lt_grid_crossing(w, u + 1) < T) u++;
+    while (u > w->last && lt_grid_crossing(w, u) >= T) u--;
+    w->last = u;
+    if (u + 1 < n) w->next_entry = lt_grid_crossing(w, u + 1);
+  }
+  int f = w->last;
+  while (f > w->first && lt_grid_widen(lt_grid_crossing(w, f), widen) >= T) f--;
+  if (f > w->first) {
+    w->first = f;
+    w->first_exit = lt_grid_widen(lt_grid_crossing(w, f + 1), widen);
+  }
+}
+
+/* Advances a ray; 1 when it is answered, 0 while it waits for a top cell (requested from the
+ * pool). flags are the query flags. */
+LT_DEVICE int lt_irg_advance(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_trace_counters *c) {
+  int any_hit = flags & LT_QUERY_FLAG_ANY, widen = !(flags & LT_QUERY_FLAG_PLAIN_SLABS);
+  if (q->state == LT_IRG_RAY_DONE) return 1;
+  if (q->state == LT_IRG_RAY_START) {
+    float lo[3] = {v->header->lo.x, v->header->lo.y, v->header->lo.z};
+    float hi[3] = {v->header->hi.x, v->header->hi.y, v->header->hi.z};
+    float t_near, t_far;
+    q->state = LT_IRG_RAY_DONE;
+    if (!q->r.valid || !lt_ray_slabs(&q->r, lo, hi, widen, &t_near, &t_far)) return 1;
+    float t_start = t_near > q->r.tmin ? t_near : q->r.tmin;
+    if (!(t_start <= t_far && t_start <= q->r.tmax)) return 1;
+    q->t_far = t_far;
+    for (int k = 0; k < 3; k++) {
+      lt_grid_walk_start(&q->w[k], &q->r, v->header, k, t_start, widen);
+      q->lo[k] = q->w[k].first, q->hi[k] = q->w[k].last;
+    }
+    q->state = LT_IRG_RAY_VISIT;
+  }
+
+  int cap = 3 * (q->w[0].axis.n + q->w[1].axis.n + q->w[2].axis.n + 3);
+  for (int step = 0; step < cap; step++) {
+    /* Every voxel still to visit must be in a built top cell; ask for the first that is not. */
+    for (int uz = q->lo[2]; uz <= q->hi[2]; uz++)
+      for (int uy = q->lo[1]; uy <= q->hi[1]; uy++)
+        for (int ux = q->lo[0]; ux <= q->hi[0]; ux++) {
+          lt_i32 cell = lt_irg_cell_at(v, q, ux, uy, uz);
+          if (cell >= 0) continue;
+          if (cell != LT_IRG_COUNTING && v->pool) {
+            int x[3];
+            lt_irg_voxel_at(q, ux, uy, uz, x);
+            lt_i32 top = lt_irg_top_of(v->fine_dims, v->shift, x[0], x[1], x[2]);
+            lt_pool_request(v->pool, LT_IRG_UNBUILT_SLOT(cell), top + 1);
+            if (q->wait != top) lt_pool_count(v->pool, LT_POOL_STAT_STALLS, 1);
+            q->wait = top;
+          }
+          return 0;
+        }
+    q->wait = -1;
+    for (int uz = q->lo[2]; uz <= q->hi[2]; uz++)
+      for (int uy = q->lo[1]; uy <= q->hi[1]; uy++)
+        for (int ux = q->lo[0]; ux <= q->hi[0]; ux++)
+          if (lt_irg_test_cell(v, q, lt_irg_cell_at(v, q, ux, uy, uz), any_hit, c)) {
+            q->state = LT_IRG_RAY_DONE;
+            return 1;
+          }
+
+    /* Skip to T, the earliest exit of the cells around the ray (all visited, all built). */
+    float T = INFINITY;
+    for (int uz = q->w[2].first; uz <= q->w[2].last; uz++)
+      for (int uy = q->w[1].first; uy <= q->w[1].last; uy++)
+        for (int ux = q->w[0].first; ux <= q->w[0].last; ux++) {
+          float e = lt_irg_exit(q, &v->cells[lt_irg_cell_at(v, q, ux, uy, uz)]);
+          T = e < T ? e : T;
+        }
+    for (int k = 0; k < 3; k++) lt_irg_skip_axis(&q->w[k], &q->r, k, T, widen);
+
+    /* The next boundary, and the uniform walk's rules for it. */
+    int a = -1;
+    float entry = 0.0f;
+    for (int k = 0; k < 3; k++)
+      if (q->w[k].sign != 0 && q->w[k].last + 1 < q->w[k].axis.n && (a < 0 || q->w[k].next_entry < entry))
+        a = k, entry = q->w[k].next_entry;
+    float best = q->hit.prim >= 0 ? q->hit.t : q->r.tmax;
+    if (a < 0 || entry > best || !(entry <= q->t_far)) {
+      q->state = LT_IRG_RAY_DONE;
+      return 1;
+    }
+    lt_grid_walk *wa = &q->w[a];
+    wa->last++;
+    if (wa->last + 1 < wa->axis.n) wa->next_entry = lt_grid_crossing(wa, wa->last + 1);
+    for (int k = 0; k < 3; k++) {
+      lt_grid_walk *w = &q->w[k];
+      while (w->sign != 0 && w->first < w->last && !(w->first_exit >= entry)) {
+        w->first++;
+        w->first_exit = lt_grid_widen(lt_grid_crossing(w, w->first + 1), widen);
+      }
+      q->lo[k] = w->first, q->hi[k] = w->last;
+    }
+    q->lo[a] = q->hi[a];
+  }
+  /* More boundaries than the grid has planes: impossible, each enters a new voxel. */
+  q->state = LT_IRG_RAY_DONE;
+  return 1;
+}
+
+#endif
