@@ -214,3 +214,34 @@ double lt__irgrid_bytes(lt__irgrid *g, double *cell_bytes, double *reference_byt
   return *cell_bytes + *reference_bytes + *map_bytes + *pool_bytes + (double)g->prim_boxes.bytes +
          (double)g->top_fill.bytes + (double)g->scratch.bytes;
 }
+
+void lt__irgrid_arrays_free(lt__irgrid_arrays *a) {
+  free(a->top_map), free(a->top_begin), free(a->sub_maps), free(a->refs), free(a->cells);
+  memset(a, 0, sizeof *a);
+}
+
+lt_status lt__irgrid_read(lt__irgrid *g, lt__irgrid_arrays *out) {
+  memset(out, 0, sizeof *out);
+  int exhausted;
+  lt_status status = lt__heap_used(g->ctx, &g->map_heap, &out->sub_count, &exhausted);
+  if (!status) status = lt__heap_used(g->ctx, &g->cell_heap, &out->cell_count, &exhausted);
+  if (!status) status = lt__heap_used(g->ctx, &g->ref_heap, &out->ref_count, &exhausted);
+  if (status) return status;
+  size_t top = (size_t)g->top_count;
+  out->top_map = malloc(top * 4);
+  out->top_begin = malloc((top + 1) * 4);
+  out->sub_maps = malloc((size_t)(out->sub_count + 1) * 4);
+  out->refs = malloc((size_t)(out->ref_count + 1) * 4);
+  out->cells = malloc((size_t)(out->cell_count + 1) * sizeof(lt_irg_cell));
+  if (!out->top_map || !out->top_begin || !out->sub_maps || !out->refs || !out->cells) {
+    lt__irgrid_arrays_free(out);
+    return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory copying an irregular grid");
+  }
+  status = lt__buffer_read(g->ctx, &g->top_map, 0, top * 4, out->top_map);
+  if (!status) status = lt__buffer_read(g->ctx, &g->top_begin, 0, (top + 1) * 4, out->top_begin);
+  if (!status) status = lt__buffer_read(g->ctx, &g->sub_maps, 0, (size_t)out->sub_count * 4, out->sub_maps);
+  if (!status) status = lt__buffer_read(g->ctx, &g->refs, 0, (size_t)out->ref_count * 4, out->refs);
+  if (!status) status = lt__buffer_read(g->ctx, &g->cells, 0, (size_t)out->cell_count * sizeof(lt_irg_cell), out->cells);
+  if (status) lt__irgrid_arrays_free(out);
+  return status;
+}

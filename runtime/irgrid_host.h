@@ -53,6 +53,15 @@ int lt__irgrid_heap_full(lt__irgrid *g);
  * and sub-maps), pool; the total adds the triangles' boxes and the build's scratch. */
 double lt__irgrid_bytes(lt__irgrid *g, double *cell_bytes, double *reference_bytes, double *map_bytes,
                         double *pool_bytes);
+/* A host copy of a grid's arrays (for tests that check cells and compare grids); free with
+ * lt__irgrid_arrays_free. */
+typedef struct lt__irgrid_arrays {
+  lt_i32 *top_map, *top_begin, *sub_maps, *refs;
+  lt_irg_cell *cells;
+  int sub_count, cell_count, ref_count;
+} lt__irgrid_arrays;
+lt_status lt__irgrid_read(lt__irgrid *g, lt__irgrid_arrays *out);
+void lt__irgrid_arrays_free(lt__irgrid_arrays *a);
 /* The irregular grid behind a structure, or NULL (for tests). */
 lt__irgrid *lt__irgrid_of(lt_structure *structure);
 

@@ -192,12 +192,15 @@ LT_DEVICE int lt_irg_advance(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_
             return 1;
           }
 
-    /* Skip to T, the earliest exit of the cells around the ray (all visited, all built). */
+    /* Skip to T, the earliest exit of the cells around the ray. A voxel of the product may lie
+     * in a top cell not built (one a box grew into, passed by the last skip): then no skip, the
+     * uniform walk's next step. */
     float T = INFINITY;
     for (int uz = q->w[2].first; uz <= q->w[2].last; uz++)
       for (int uy = q->w[1].first; uy <= q->w[1].last; uy++)
         for (int ux = q->w[0].first; ux <= q->w[0].last; ux++) {
-          float e = lt_irg_exit(q, &v->cells[lt_irg_cell_at(v, q, ux, uy, uz)]);
+          lt_i32 cell = lt_irg_cell_at(v, q, ux, uy, uz);
+          float e = cell >= 0 ? lt_irg_exit(q, &v->cells[cell]) : -INFINITY;
           T = e < T ? e : T;
         }
     for (int k = 0; k < 3; k++) lt_irg_skip_axis(&q->w[k], &q->r, k, T, widen);

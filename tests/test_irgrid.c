@@ -1,0 +1,449 @@
+/* The irregular grid built through the task pool, fully and with top cells on demand: closest
+ * hits equal the brute-force reference on every generator, mode, backend and launch shape, and
+ * for every density, merge and expansion setting; any-hit agrees; every cell references
+ * exactly the triangles whose boxes meet its (grown) box, and every voxel maps to a cell whose
+ * box holds it; top cells built on demand equal the full build's; on-demand modes build a part
+ * of the grid; the statistics say what was built. The hard-case suite (tests/test_robustness.c)
+ * and fault injection (tests/test_faults.c) take the irregular grid from the registry like
+ * every structure. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "runtime/irgrid_host.h"
+#include "runtime/structure_internal.h"
+#include "tests/hard_cases.h"
+#include "tests/support.h"
+
+#define CAMERA_SIZE 24
+#define RANDOM_RAYS 512
+#define RAY_COUNT (2 * CAMERA_SIZE * CAMERA_SIZE + RANDOM_RAYS)
+
+static const char *const specs[] = {"house", "house-row:2", "house-grid:2x2", "hairball:300", "sphere:4", "cornell",
+                                    "teapot-stadium"};
+
+typedef struct launch {
+  lt_device_kind device;
+  int work_groups, local_size;
+} launch;
+
+static lt_structure_config irgrid_config(lt_build_mode mode) {
+  lt_structure_config c = lt_structure_config_default(LT_STRUCTURE_IRGRID);
+  c.build = mode;
+  return c;
+}
+
+/* Builds with config sc and one launch shape and traces; returns malloc'ed hits. */
+static lt_hit *trace_with(const lt_scene *scene, const launch *l, const lt_structure_config *sc, const lt_ray *rays,
+                          size_t n, int query, lt_stats *stats) {
+  lt_context *ctx;
+  lt_context_config config = {l->device, 0, l->work_groups, l->local_size, 1};
+  assert_int_equal(lt_context_create(&config, &ctx), LT_OK);
+  lt_structure *g;
+  lt_status status = lt_structure_create(ctx, scene, sc, stats, &g);
+  if (status) fprintf(stderr, "create failed: %s\n", lt_last_error());
+  assert_int_equal(status, LT_OK);
+  lt_hit *hits = malloc(n * sizeof *hits);
+  status = lt_structure_trace(g, rays, n, query, hits, stats);
+  if (status) fprintf(stderr, "trace failed: %s\n", lt_last_error());
+  assert_int_equal(status, LT_OK);
+  lt_structure_destroy(g);
+  lt_context_destroy(ctx);
+  return hits;
+}
+
+/* Camera rays from both cameras and random rays, with the reference's answers. */
+static void make_rays(const lt_scene *scene, uint64_t seed, lt_ray *rays, lt_hit *ref) {
+  lt_test_camera_rays(scene, "outer", CAMERA_SIZE, CAMERA_SIZE, rays);
+  lt_test_camera_rays(scene, "close", CAMERA_SIZE, CAMERA_SIZE, rays + CAMERA_SIZE * CAMERA_SIZE);
+  lt_test_random_rays(scene, seed, RANDOM_RAYS, rays + 2 * CAMERA_SIZE * CAMERA_SIZE);
+  assert_int_equal(lt_reference_trace(scene, rays, RAY_COUNT, LT_QUERY_CLOSEST, ref), LT_OK);
+}
+
+/* Every generator, both cameras and random rays, every mode, launch shapes on both backends. */
+static void irgrid_matches_reference_in_every_mode(void **state) {
+  (void)state;
+  int have_opencl = lt_test_opencl_available();
+  const launch launches[] = {{LT_DEVICE_NATIVE, 2, 1}, {LT_DEVICE_NATIVE, 1, 1}, {LT_DEVICE_NATIVE, 3, 1},
+                             {LT_DEVICE_OPENCL, 0, 1}, {LT_DEVICE_OPENCL, 2, 4}};
+  size_t first = getenv("LT_TEST_QUICK") ? 3 : 0;
+  for (size_t s = first; s < sizeof specs / sizeof specs[0]; s++) {
+    lt_scene *scene;
+    assert_int_equal(lt_scene_load(specs[s], &scene), LT_OK);
+    lt_ray *rays = malloc(RAY_COUNT * sizeof *rays);
+    lt_hit *ref = malloc(RAY_COUNT * sizeof *ref);
+    make_rays(scene, 11 + s, rays, ref);
+    for (int mode = LT_BUILD_FULL; mode <= LT_BUILD_SPECULATIVE; mode++)
+      for (size_t l = 0; l < sizeof launches / sizeof launches[0]; l++) {
+        if (launches[l].device == LT_DEVICE_OPENCL && !have_opencl) continue;
+        char what[128];
+        snprintf(what, sizeof what, "irgrid %s %s launch %zu", specs[s], lt_build_mode_name((lt_build_mode)mode), l);
+        lt_structure_config sc = irgrid_config((lt_build_mode)mode);
+        lt_hit *hits = trace_with(scene, &launches[l], &sc, rays, RAY_COUNT, LT_QUERY_CLOSEST, NULL);
+        assert_int_equal(lt_test_count_mismatches(what, hits, ref, RAY_COUNT), 0);
+        lt_hit *any = trace_with(scene, &launches[l], &sc, rays, RAY_COUNT, LT_QUERY_ANY, NULL);
+        assert_int_equal(lt_test_count_occlusion_mismatches(any, ref, RAY_COUNT), 0);
+        free(hits), free(any);
+      }
+    fprintf(stderr, "irgrid %s: %zu triangles: every mode and launch matches the reference\n", specs[s],
+            lt_scene_triangle_count(scene));
+    free(rays), free(ref);
+    lt_scene_destroy(scene);
+  }
+}
+
+/* ---- The grid's arrays, checked on the host ---- */
+
+typedef struct built {
+  lt_context *ctx;
+  lt_structure *s;
+  lt__irgrid *g;
+  lt__irgrid_arrays a;
+} built;
+
+static built build_grid(const lt_scene *scene, const lt_structure_config *sc, const lt_ray *rays, size_t n) {
+  built b;
+  lt_context_config config = {LT_DEVICE_NATIVE, 2, 2, 0, 1};
+  assert_int_equal(lt_context_create(&config, &b.ctx), LT_OK);
+  assert_int_equal(lt_structure_create(b.ctx, scene, sc, NULL, &b.s), LT_OK);
+  if (n) {
+    lt_hit *hits = malloc(n * sizeof *hits);
+    assert_int_equal(lt_structure_trace(b.s, rays, n, LT_QUERY_CLOSEST, hits, NULL), LT_OK);
+    free(hits);
+  }
+  b.g = lt__irgrid_of(b.s);
+  assert_non_null(b.g);
+  assert_int_equal(lt__irgrid_read(b.g, &b.a), LT_OK);
+  return b;
+}
+
+static void built_free(built *b) {
+  lt__irgrid_arrays_free(&b->a);
+  lt_structure_destroy(b->s);
+  lt_context_destroy(b->ctx);
+}
+
+/* The fine voxels triangle i's box meets (inclusive), decided as the builder decides. */
+static void fine_range(const lt_grid_header *h, const float *t, int lo[3], int hi[3]) {
+  for (int k = 0; k < 3; k++) {
+    float a = t[k] < t[3 + k] ? t[k] : t[3 + k], c = t[k] > t[3 + k] ? t[k] : t[3 + k];
+    a = t[6 + k] < a ? t[6 + k] : a, c = t[6 + k] > c ? t[6 + k] : c;
+    lt_grid_axis ax = lt_grid_axis_of(h, k);
+    lo[k] = lt_grid_first_cell(&ax, a), hi[k] = lt_grid_last_cell(&ax, c);
+  }
+}
+
+static int meets(const int lo[3], const int hi[3], const lt_i32 blo[3], const lt_i32 bhi[3]) {
+  for (int k = 0; k < 3; k++)
+    if (lo[k] >= bhi[k] || hi[k] < blo[k]) return 0;
+  return 1;
+}
+
+/* Checks every built top cell: each voxel's cell holds the voxel; each cell's references are
+ * ascending and exactly the triangles that meet its box. Returns the cells checked. */
+static int check_cells(const lt_scene *scene, const built *b) {
+  const lt_grid_header *h = &b->g->fine;
+  const float *tris = lt_scene_triangles(scene);
+  size_t n = lt_scene_triangle_count(scene);
+  int (*range)[6] = malloc(n * sizeof *range);
+  for (size_t i = 0; i < n; i++) fine_range(h, tris + 9 * i, range[i], range[i] + 3);
+  char *seen = calloc((size_t)b->a.cell_count + 1, 1);
+  int checked = 0, shift = LT_IRG_MAX_LEVEL;
+  for (int t = 0; t < b->g->top_count; t++) {
+    lt_i32 entry = b->a.top_map[t];
+    if (entry < 0) continue;
+    int level = LT_IRG_ENTRY_LEVEL(entry), side = 1 << level, step = 1 << (shift - level);
+    int top[3] = {t % b->g->top_dims[0], (t / b->g->top_dims[0]) % b->g->top_dims[1],
+                  t / (b->g->top_dims[0] * b->g->top_dims[1])};
+    for (int s = 0; s < side * side * side; s++) {
+      int v[3] = {s % side, (s / side) % side, s / (side * side)};
+      lt_i32 id = b->a.sub_maps[LT_IRG_ENTRY_BASE(entry) + s];
+      assert_true(id >= 0 && id < b->a.cell_count);
+      const lt_irg_cell *cell = &b->a.cells[id];
+      for (int k = 0; k < 3; k++) {
+        int lo = (top[k] << shift) + v[k] * step;
+        assert_true(cell->lo[k] <= lo && lo + step <= cell->hi[k]);
+      }
+      if (seen[id]) continue;
+      seen[id] = 1, checked++;
+      assert_true(cell->begin >= 0 && cell->begin <= cell->end && cell->end <= b->a.ref_count);
+      lt_i32 at = cell->begin;
+      for (size_t i = 0; i < n; i++) {
+        if (!meets(range[i], range[i] + 3, cell->lo, cell->hi)) continue;
+        if (at >= cell->end || b->a.refs[at] != (lt_i32)i)
+          fail_msg("cell %d (top %d): triangle %zu meets its box but is not its next reference", id, t, i);
+        at++;
+      }
+      assert_int_equal(at, cell->end);
+    }
+  }
+  free(range), free(seen);
+  return checked;
+}
+
+typedef struct setting {
+  const char *what;
+  float top_density, cell_density;
+  int merge, passes;
+} setting;
+
+static const setting settings[] = {
+    {"defaults", 0, 0, 0, 0},
+    {"two-level (no merge, no expansion)", 0, 0, LT_IRGRID_MERGE_OFF, LT_IRGRID_PASSES(0)},
+    {"merge, no expansion", 0, 0, 0, LT_IRGRID_PASSES(0)},
+    {"8 expansion passes", 0, 0, 0, LT_IRGRID_PASSES(8)},
+    {"coarse: lambda1 0.012, lambda2 0.24", 0.012f, 0.24f, 0, 0},
+    {"fine: lambda2 24", 0, 24.0f, 0, 0},
+};
+#define SETTINGS (sizeof settings / sizeof settings[0])
+
+static lt_structure_config config_of(const setting *s, lt_build_mode mode) {
+  lt_structure_config c = irgrid_config(mode);
+  if (s->top_density > 0) c.irgrid_top_density = s->top_density;
+  if (s->cell_density > 0) c.irgrid_cell_density = s->cell_density;
+  if (s->merge) c.irgrid_merge = s->merge;
+  if (s->passes) c.irgrid_expansion_passes = s->passes;
+  return c;
+}
+
+static void irgrid_cells_reference_exactly_what_meets_them(void **state) {
+  (void)state;
+  static const char *const scenes[] = {"sphere:3", "cornell", "hairball:200"};
+  for (size_t s = 0; s < sizeof scenes / sizeof scenes[0]; s++) {
+    lt_scene *scene;
+    assert_int_equal(lt_scene_load(scenes[s], &scene), LT_OK);
+    for (size_t v = 0; v < SETTINGS; v++) {
+      lt_structure_config sc = config_of(&settings[v], LT_BUILD_FULL);
+      built b = build_grid(scene, &sc, NULL, 0);
+      int cells = check_cells(scene, &b);
+      fprintf(stderr, "irgrid %s, %s: %d top cells, %d cells hold exactly what meets them\n", scenes[s],
+              settings[v].what, b.g->top_count, cells);
+      assert_true(cells >= b.g->top_count);
+      built_free(&b);
+    }
+    lt_scene_destroy(scene);
+  }
+}
+
+/* Every top cell built on demand has the full build's level, and its sub-voxels cells with the
+ * full build's boxes and references. */
+static void irgrid_top_cells_built_on_demand_equal_the_full_build(void **state) {
+  (void)state;
+  lt_scene *scene;
+  assert_int_equal(lt_scene_load("house-row:2", &scene), LT_OK);
+  int side = getenv("LT_TEST_QUICK") ? 48 : 96;
+  size_t n = (size_t)side * side;
+  lt_ray *rays = malloc(n * sizeof *rays);
+  lt_test_camera_rays(scene, "close", side, side, rays);
+  lt_structure_config full_config = irgrid_config(LT_BUILD_FULL);
+  built full = build_grid(scene, &full_config, NULL, 0);
+  for (int mode = LT_BUILD_REQUESTED; mode <= LT_BUILD_SPECULATIVE; mode++) {
+    lt_structure_config sc = irgrid_config((lt_build_mode)mode);
+    built od = build_grid(scene, &sc, rays, n);
+    int tops = 0, cells = 0;
+    for (int t = 0; t < full.g->top_count; t++) {
+      lt_i32 e = od.a.top_map[t], f = full.a.top_map[t];
+      if (e < 0) continue;
+      tops++;
+      assert_int_equal(LT_IRG_ENTRY_LEVEL(e), LT_IRG_ENTRY_LEVEL(f));
+      int voxels = 1 << (3 * LT_IRG_ENTRY_LEVEL(e));
+      for (int s = 0; s < voxels; s++) {
+        const lt_irg_cell *a = &od.a.cells[od.a.sub_maps[LT_IRG_ENTRY_BASE(e) + s]];
+        const lt_irg_cell *b = &full.a.cells[full.a.sub_maps[LT_IRG_ENTRY_BASE(f) + s]];
+        assert_memory_equal(a->lo, b->lo, sizeof a->lo);
+        assert_memory_equal(a->hi, b->hi, sizeof a->hi);
+        assert_int_equal(a->end - a->begin, b->end - b->begin);
+        assert_memory_equal(od.a.refs + a->begin, full.a.refs + b->begin, (size_t)(a->end - a->begin) * sizeof(lt_i32));
+        cells++;
+      }
+    }
+    fprintf(stderr, "irgrid %s: %d of %d top cells built, %d sub-voxels' cells equal the full build's\n",
+            lt_build_mode_name((lt_build_mode)mode), tops, full.g->top_count, cells);
+    assert_true(tops > 10);
+    built_free(&od);
+  }
+  built_free(&full);
+  free(rays);
+  lt_scene_destroy(scene);
+}
+
+/* Requested builds a part of the grid from the outer camera of a row of houses; speculative
+ * no less than requested and no more than full. */
+static void irgrid_builds_only_what_rays_reach(void **state) {
+  (void)state;
+  lt_scene *scene;
+  int quick = getenv("LT_TEST_QUICK") != NULL;
+  assert_int_equal(lt_scene_load(quick ? "house-row:2" : "house-row:4", &scene), LT_OK);
+  size_t n = 64 * 64;
+  lt_ray *rays = malloc(n * sizeof *rays);
+  lt_test_camera_rays(scene, "outer", 64, 64, rays);
+  double tops[LT_BUILD_SPECULATIVE + 1], cells[LT_BUILD_SPECULATIVE + 1];
+  for (int mode = LT_BUILD_FULL; mode <= LT_BUILD_SPECULATIVE; mode++) {
+    lt_stats *stats;
+    lt_stats_create(&stats);
+    launch native = {LT_DEVICE_NATIVE, 2, 1};
+    lt_structure_config sc = irgrid_config((lt_build_mode)mode);
+    free(trace_with(scene, &native, &sc, rays, n, LT_QUERY_CLOSEST, stats));
+    tops[mode] = lt_stats_get(stats, "cells.top_built");
+    cells[mode] = lt_stats_get(stats, "nodes_built");
+    assert_true(lt_stats_get(stats, "cells.top") >= tops[mode]);
+    lt_stats_destroy(stats);
+  }
+  fprintf(stderr, "irgrid house-row outer, 64x64: top cells built full %.0f, requested %.0f, speculative %.0f; "
+          "cells %.0f, %.0f, %.0f\n", tops[LT_BUILD_FULL], tops[LT_BUILD_REQUESTED], tops[LT_BUILD_SPECULATIVE],
+          cells[LT_BUILD_FULL], cells[LT_BUILD_REQUESTED], cells[LT_BUILD_SPECULATIVE]);
+  assert_true(cells[LT_BUILD_REQUESTED] < 0.5 * cells[LT_BUILD_FULL]);
+  assert_true(tops[LT_BUILD_REQUESTED] < tops[LT_BUILD_FULL]);
+  assert_true(tops[LT_BUILD_SPECULATIVE] >= tops[LT_BUILD_REQUESTED]);
+  assert_true(tops[LT_BUILD_SPECULATIVE] <= tops[LT_BUILD_FULL]);
+  free(rays);
+  lt_scene_destroy(scene);
+}
+
+/* Every setting in a full and a requested build, on generators and on closed meshes, against
+ * brute force (closed meshes: no leaks), on both backends. */
+static void check_settings(const char *what, const lt_scene *scene, const lt_ray *rays, size_t n, const lt_hit *ref) {
+  int have_opencl = lt_test_opencl_available();
+  const launch launches[] = {{LT_DEVICE_NATIVE, 0, 0}, {LT_DEVICE_OPENCL, 0, 0}};
+  for (size_t l = 0; l < 1 + (size_t)have_opencl; l++)
+    for (size_t v = 0; v < SETTINGS; v++)
+      for (int mode = LT_BUILD_FULL; mode <= LT_BUILD_REQUESTED; mode++) {
+        lt_structure_config sc = config_of(&settings[v], (lt_build_mode)mode);
+        char label[256];
+        snprintf(label, sizeof label, "irgrid %s %s, %s, launch %zu", settings[v].what,
+                 lt_build_mode_name((lt_build_mode)mode), what, l);
+        lt_hit *hits = trace_with(scene, &launches[l], &sc, rays, n, LT_QUERY_CLOSEST, NULL);
+        lt_hit *any = trace_with(scene, &launches[l], &sc, rays, n, LT_QUERY_ANY, NULL);
+        assert_int_equal(lt_test_count_mismatches(label, hits, ref, n), 0);
+        assert_int_equal(lt_test_count_occlusion_mismatches(any, ref, n), 0);
+        free(hits), free(any);
+      }
+}
+
+static void irgrid_settings_match_reference(void **state) {
+  (void)state;
+  static const char *const scenes[] = {"house", "hairball:300", "cornell"};
+  for (size_t s = 0; s < sizeof scenes / sizeof scenes[0]; s++) {
+    lt_scene *scene;
+    assert_int_equal(lt_scene_load(scenes[s], &scene), LT_OK);
+    lt_ray *rays = malloc(RAY_COUNT * sizeof *rays);
+    lt_hit *ref = malloc(RAY_COUNT * sizeof *ref);
+    make_rays(scene, 21 + s, rays, ref);
+    check_settings(scenes[s], scene, rays, RAY_COUNT, ref);
+    fprintf(stderr, "irgrid settings on %s: every one matches the reference\n", scenes[s]);
+    free(rays), free(ref);
+    lt_scene_destroy(scene);
+  }
+  lt_hc_mesh meshes[3] = {lt_hc_sphere(3, 3), lt_hc_torus(48, 24), lt_hc_cube(16, 5)};
+  const char *names[3] = {"sphere:3", "torus 48x24", "cube 16x16"};
+  for (int m = 0; m < 3; m++) {
+    size_t n = 1500;
+    lt_ray *rays = malloc(n * sizeof *rays);
+    lt_hit *ref = malloc(n * sizeof *ref);
+    n = lt_hc_closed_rays(&meshes[m], 9, n, rays);
+    assert_int_equal(lt_reference_trace(meshes[m].scene, rays, n, LT_QUERY_CLOSEST, ref), LT_OK);
+    assert_int_equal(lt_hc_count_misses(ref, n), 0);
+    check_settings(names[m], meshes[m].scene, rays, n, ref);
+    fprintf(stderr, "irgrid settings on %s: %zu rays from inside, no leaks\n", names[m], n);
+    free(rays), free(ref);
+    lt_hc_free(&meshes[m]);
+  }
+}
+
+/* A full build reports what it made. */
+static void irgrid_statistics_are_filled(void **state) {
+  (void)state;
+  lt_scene *scene;
+  assert_int_equal(lt_scene_load("sphere:4", &scene), LT_OK);
+  size_t n = 256, tris = lt_scene_triangle_count(scene);
+  lt_ray *rays = malloc(n * sizeof *rays);
+  lt_test_random_rays(scene, 5, n, rays);
+  lt_stats *stats;
+  lt_stats_create(&stats);
+  launch native = {LT_DEVICE_NATIVE, 2, 1};
+  lt_structure_config sc = irgrid_config(LT_BUILD_FULL);
+  free(trace_with(scene, &native, &sc, rays, n, LT_QUERY_CLOSEST, stats));
+  double top = lt_stats_get(stats, "cells.top"), initial = lt_stats_get(stats, "cells.initial");
+  double final = lt_stats_get(stats, "cells.final"), merges = lt_stats_get(stats, "cells.merges");
+  fprintf(stderr, "irgrid sphere:4 (%zu triangles): %.0f top cells, %.0f initial, %.0f after %.0f merges, %.0f layers "
+          "grown, %.0f references, %.0f map bytes\n", tris, top, initial, final, merges,
+          lt_stats_get(stats, "cells.expansions"), lt_stats_get(stats, "references"), lt_stats_get(stats, "map_bytes"));
+  assert_true(top >= 1 && lt_stats_get(stats, "cells.top_built") == top);
+  assert_true(initial >= top && final <= initial && final >= top);
+  assert_true(merges == initial - final);
+  assert_true(lt_stats_get(stats, "nodes_built") == final && lt_stats_get(stats, "nodes_full") == final);
+  assert_true(lt_stats_get(stats, "references") >= (double)tris);
+  assert_true(lt_stats_get(stats, "sort_ops") >= (double)tris);
+  assert_true(lt_stats_get(stats, "map_bytes") >= 4 * initial);
+  assert_true(lt_stats_get(stats, "node_bytes") == 32 * final);
+  assert_true(lt_stats_get(stats, "traversal_steps") > 0 && lt_stats_get(stats, "intersections") > 0);
+  lt_stats_destroy(stats);
+  free(rays);
+  lt_scene_destroy(scene);
+}
+
+/* A pool of 2 slots fills at once; the grid retries larger and answers correctly. */
+static void irgrid_full_pool_is_retried_larger(void **state) {
+  (void)state;
+  lt_scene *scene;
+  assert_int_equal(lt_scene_load("sphere:5", &scene), LT_OK);
+  lt_ray rays[500];
+  lt_hit hits[500], ref[500];
+  lt_test_random_rays(scene, 3, 500, rays);
+  assert_int_equal(lt_reference_trace(scene, rays, 500, LT_QUERY_CLOSEST, ref), LT_OK);
+  for (int mode = LT_BUILD_FULL; mode <= LT_BUILD_SPECULATIVE; mode++) {
+    lt_context *ctx;
+    lt_context_config config = {LT_DEVICE_NATIVE, 2, 1, 0, 1};
+    assert_int_equal(lt_context_create(&config, &ctx), LT_OK);
+    lt_structure_config sc = irgrid_config((lt_build_mode)mode);
+    sc.pool_capacity = 2;
+    lt_structure *g;
+    assert_int_equal(lt_structure_create(ctx, scene, &sc, NULL, &g), LT_OK);
+    assert_int_equal(lt_structure_trace(g, rays, 500, LT_QUERY_CLOSEST, hits, NULL), LT_OK);
+    assert_int_equal(lt_test_count_mismatches("irgrid small pool", hits, ref, 500), 0);
+    lt_structure_destroy(g);
+    lt_context_destroy(ctx);
+  }
+  lt_scene_destroy(scene);
+}
+
+/* Settings out of range are refused with a message. */
+static void irgrid_bad_settings_are_refused(void **state) {
+  (void)state;
+  lt_scene *scene;
+  assert_int_equal(lt_scene_load("sphere:2", &scene), LT_OK);
+  lt_context *ctx;
+  lt_context_config config = {LT_DEVICE_NATIVE, 0, 0, 0, 1};
+  assert_int_equal(lt_context_create(&config, &ctx), LT_OK);
+  lt_structure *g;
+  lt_structure_config bad[4];
+  for (int i = 0; i < 4; i++) bad[i] = irgrid_config(LT_BUILD_FULL);
+  bad[0].irgrid_top_density = -1.0f / 0.0f;
+  bad[1].irgrid_merge_alpha = 1.5f;
+  bad[2].irgrid_merge = 3;
+  bad[3].irgrid_expansion_passes = LT_IRGRID_PASSES(LT_IRGRID_MAX_PASSES + 1);
+  for (int i = 0; i < 4; i++) {
+    assert_int_equal(lt_structure_create(ctx, scene, &bad[i], NULL, &g), LT_ERROR_INVALID_ARGUMENT);
+    assert_non_null(strstr(lt_last_error(), "irregular grid"));
+  }
+  lt_context_destroy(ctx);
+  lt_scene_destroy(scene);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(irgrid_statistics_are_filled),
+      cmocka_unit_test(irgrid_bad_settings_are_refused),
+      cmocka_unit_test(irgrid_cells_reference_exactly_what_meets_them),
+      cmocka_unit_test(irgrid_top_cells_built_on_demand_equal_the_full_build),
+      cmocka_unit_test(irgrid_builds_only_what_rays_reach),
+      cmocka_unit_test(irgrid_full_pool_is_retried_larger),
+      cmocka_unit_test(irgrid_matches_reference_in_every_mode),
+      cmocka_unit_test(irgrid_settings_match_reference),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
