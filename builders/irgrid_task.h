@@ -15,8 +15,8 @@
  * Merging (section 3.2). A pass along axis a pairs each cell with the cell beyond its upper
  * face when the two have the same extent on the other axes and merging lowers the cost
  * (Ci * |T| + Ct) * SA(B); such pairs form chains along a, and each chain merges pairwise from
- * its lower end, so a pass never merges a cell twice. Passes go round the axes until a round
- * of three merges fewer than (1 - alpha) of the cells. Counts of merged cells come from one
+ * its lower end, so a pass never merges a cell twice. Passes go round the axes until one
+ * merges fewer than (1 - alpha) of the cells it started with. Counts of merged cells come from one
  * sweep over the triangles per pass (the triangles a pair shares), never from lists.
  *
  * Merges stay inside a top cell: that is what lets a top cell be built alone, in any order,
@@ -42,7 +42,7 @@
 #include "device/pool.h"
 
 /* Task kinds, as the irregular grid's workload numbers them (kernels/irgrid_ondemand.h). */
-enum { LT_IRG_KIND_COUNT = 0, LT_IRG_KIND_CELL = 1 };
+enum { LT_IRG_KIND_COUNT = 0, LT_IRG_KIND_CELL = 1, LT_IRG_KIND_GLOBAL = 2 };
 
 /* Triangles per chunk of the counting phases, top cells per chunk of the sorting phase. */
 #define LT_IRG_COUNT_CHUNK 1024
@@ -61,7 +61,9 @@ enum { LT_IRG_KIND_COUNT = 0, LT_IRG_KIND_CELL = 1 };
   X(LT_IRG_STAT_TOP_BUILT, LT_STAT_NONE) /* top cells materialised */               \
   X(LT_IRG_STAT_INITIAL, LT_STAT_NONE) /* cells of the initial subdivisions */      \
   X(LT_IRG_STAT_CELLS, LT_STAT_NONE) /* cells after merging */                      \
-  X(LT_IRG_STAT_MERGES, LT_STAT_NONE) /* pairs merged */                            \
+  X(LT_IRG_STAT_MERGES, LT_STAT_NONE) /* pairs merged within top cells */           \
+  X(LT_IRG_STAT_GLOBAL_MERGES, LT_STAT_NONE) /* pairs merged by the global passes */ \
+  X(LT_IRG_STAT_REFS_SAVED, LT_STAT_NONE) /* references the global merges saved */   \
   X(LT_IRG_STAT_EXPANSIONS, LT_STAT_NONE) /* layers grown */                        \
   X(LT_IRG_STAT_CELL_REFS, LT_STAT_NONE) /* references held by cells */             \
   X(LT_IRG_STAT_SORT_OPS, LT_STAT_SORT_OPS) /* references placed or compared */     \
@@ -88,10 +90,13 @@ typedef struct lt_irg_build {
   LT_GLOBAL lt_i32 *refs;             /* from ref_heap: the top lists, then the cells' lists */
   LT_GLOBAL lt_i32 *scratch;          /* LT_IRG_SCRATCH per work-group */
   LT_GLOBAL lt_u32 *counters;         /* LT_IRG_STAT_COUNT per work-group */
+  LT_GLOBAL lt_i32 *control;          /* LT_IRG_CONTROL_WORDS words (below) */
+  LT_GLOBAL lt_i32 *cell_scratch;     /* 3 per unit of cell_heap: the global passes' scratch */
   lt_heap cell_heap, ref_heap, map_heap;
   lt_int4 fine_dims;                  /* the header's dims, for lookups */
   lt_i32 prim_count, top_count, shift;
   lt_i32 merge;                       /* whether to merge at all */
+  lt_i32 global_merge;                /* whether a GLOBAL task merges across top cells once all are built */
   lt_i32 expansion_passes;
   float cell_density;                 /* lambda2 */
   float merge_alpha;
@@ -112,6 +117,8 @@ typedef struct lt_irg_build {
   X(BUF, lt_i32, V.refs, refs)                       \
   X(BUF, lt_i32, V.scratch, scratch)                 \
   X(BUF, lt_u32, V.counters, counters)               \
+  X(BUF, lt_i32, V.control, control)                 \
+  X(BUF, lt_i32, V.cell_scratch, cell_scratch)       \
   LT_HEAP_ARGS(X, V.cell_heap, cell_heap)            \
   LT_HEAP_ARGS(X, V.ref_heap, ref_heap)              \
   LT_HEAP_ARGS(X, V.map_heap, map_heap)              \
@@ -120,11 +127,16 @@ typedef struct lt_irg_build {
   X(VAL, lt_i32, V.top_count, top_count)             \
   X(VAL, lt_i32, V.shift, shift)                     \
   X(VAL, lt_i32, V.merge, merge)                     \
+  X(VAL, lt_i32, V.global_merge, global_merge)       \
   X(VAL, lt_i32, V.expansion_passes, expansion_passes) \
   X(VAL, float, V.cell_density, cell_density)        \
   X(VAL, float, V.merge_alpha, merge_alpha)          \
   X(VAL, float, V.traversal_cost, traversal_cost)    \
   X(VAL, float, V.intersection_cost, intersection_cost)
+
+/* Words of the control buffer: top cells not built yet (set by the COUNT task). */
+#define LT_IRG_CONTROL_TOPS_LEFT 0
+#define LT_IRG_CONTROL_WORDS 4
 
 LT_DEVICE void lt_irg_count(const lt_irg_build *b, int stat, lt_u32 n) {
   lt_atomic_add_u32(&b->counters[lt_group_id() * LT_IRG_STAT_COUNT + stat], n);
@@ -239,6 +251,7 @@ LT_DEVICE void lt_irg_count_end(const lt_irg_build *b, lt_i32 slot) {
     lt_fence();
     lt_pool_next_phase(&b->pool, slot, 2, (b->top_count + LT_IRG_SORT_CHUNK - 1) / LT_IRG_SORT_CHUNK);
   } else {
+    lt_atomic_store_i32(&b->control[LT_IRG_CONTROL_TOPS_LEFT], b->top_count);
     lt_fence();
     lt_irg_spawn_cells(b);
     lt_pool_retire(&b->pool, slot);
@@ -403,47 +416,67 @@ LT_DEVICE int lt_irg_escapes(const lt_irg_build *b, lt_i32 prim, const lt_irg_pl
   return lt_irg_prim_meets(b, prim, layer) && !lt_irg_prim_meets(b, prim, own);
 }
 
+/* Looks at the triangles of one cell for lt_irg_covered; 0 when one escapes. */
+LT_DEVICE int lt_irg_cell_covered(const lt_irg_build *b, lt_i32 cell, const lt_irg_planes *layer, const lt_irg_planes *own) {
+  LT_GLOBAL const lt_irg_cell *p = &b->cells[cell];
+  for (lt_i32 i = p->begin; i < p->end; i++)
+    if (lt_irg_escapes(b, b->refs[i], layer, own)) return 0;
+  return 1;
+}
+
 /* Whether every triangle that meets fine box [lo, hi) (a layer beside a cell) meets the cell's
- * box before expansion (planes `own`) too. Inside the top cell being built, the triangles are
- * those of the cells the layer's sub-voxels map to (each looked at once: `check` stamps them);
- * in any other top cell, those of its list. */
+ * box before expansion (planes `own`) too. Each top cell the layer meets is read one way:
+ * the one being built (c, or NULL) through its scratch map, a built one through its cells (a
+ * cell's triangles include those of every voxel it holds), one not built through its list.
+ * `check` stamps the scratch cells looked at, so each is read once. */
 LT_DEVICE int lt_irg_covered(const lt_irg_build *b, lt_irg_top *c, lt_i32 check, const int lo[3], const int hi[3],
                              const lt_irg_planes *own) {
-  int tx = b->fine_dims.x >> b->shift, ty = b->fine_dims.y >> b->shift;
+  int tx = b->fine_dims.x >> b->shift, ty = b->fine_dims.y >> b->shift, span = 1 << b->shift;
   lt_irg_planes layer = lt_irg_planes_of(b, lo, hi);
   for (int z = lo[2] >> b->shift; z <= (hi[2] - 1) >> b->shift; z++)
     for (int y = lo[1] >> b->shift; y <= (hi[1] - 1) >> b->shift; y++)
       for (int x = lo[0] >> b->shift; x <= (hi[0] - 1) >> b->shift; x++) {
         lt_i32 t = lt_grid_cell_index(tx, ty, x, y, z);
-        if (t != c->t) {
+        lt_i32 entry = c && t == c->t ? LT_IRG_ENTRY(c->level, 0) : lt_atomic_load_acquire_i32(&b->top_map[t]);
+        if (entry < 0) {
           for (lt_i32 i = b->top_begin[t]; i < b->top_begin[t + 1]; i++)
             if (lt_irg_escapes(b, b->refs[i], &layer, own)) return 0;
           continue;
         }
-        int slo[3], shi[3];
+        /* The layer's sub-voxels in this top cell, and their cells. */
+        int level = LT_IRG_ENTRY_LEVEL(entry), down = b->shift - level, side = 1 << level;
+        int origin[3] = {x << b->shift, y << b->shift, z << b->shift}, slo[3], shi[3];
         for (int k = 0; k < 3; k++) {
-          int l = lo[k] - c->origin[k], h = hi[k] - 1 - c->origin[k], top = (1 << b->shift) - 1;
-          slo[k] = (l < 0 ? 0 : l) >> (b->shift - c->level), shi[k] = (h > top ? top : h) >> (b->shift - c->level);
+          int l = lo[k] - origin[k], h = hi[k] - 1 - origin[k];
+          slo[k] = (l < 0 ? 0 : l) >> down, shi[k] = (h > span - 1 ? span - 1 : h) >> down;
         }
+        lt_i32 last = -1;
         for (int sz = slo[2]; sz <= shi[2]; sz++)
           for (int sy = slo[1]; sy <= shi[1]; sy++)
             for (int sx = slo[0]; sx <= shi[0]; sx++) {
-              lt_i32 j = c->smap[lt_irg_voxel(c, sx, sy, sz)];
-              if (c->stamp[j] == check) continue;
-              c->stamp[j] = check;
-              LT_GLOBAL const lt_irg_cell *cell = &b->cells[c->cand[j]];
-              for (lt_i32 i = cell->begin; i < cell->end; i++)
-                if (lt_irg_escapes(b, b->refs[i], &layer, own)) return 0;
+              lt_i32 v = sx + side * (sy + side * sz);
+              if (c && t == c->t) {
+                lt_i32 j = c->smap[v];
+                if (c->stamp[j] == check) continue;
+                c->stamp[j] = check;
+                if (!lt_irg_cell_covered(b, c->cand[j], &layer, own)) return 0;
+              } else {
+                lt_i32 cell = b->sub_maps[LT_IRG_ENTRY_BASE(entry) + v];
+                if (cell == last) continue;
+                last = cell;
+                if (!lt_irg_cell_covered(b, cell, &layer, own)) return 0;
+              }
             }
       }
   return 1;
 }
 
-/* The expansion passes over one cell (fine box lo, hi, grown in place); `check` numbers the
- * layer checks of this top cell. Returns layers grown. */
-LT_DEVICE lt_i32 lt_irg_expand(const lt_irg_build *b, lt_irg_top *c, lt_i32 *check, int lo[3], int hi[3]) {
+/* The expansion passes over one cell (fine box lo, hi, grown in place by layers `step` fine
+ * voxels thick); c is the top cell being built, if the cell is in it, and `check` numbers the
+ * layer checks. Returns layers grown. */
+LT_DEVICE lt_i32 lt_irg_expand(const lt_irg_build *b, lt_irg_top *c, lt_i32 *check, int step, int lo[3], int hi[3]) {
   lt_irg_planes own = lt_irg_planes_of(b, lo, hi);
-  int n[3] = {b->fine_dims.x, b->fine_dims.y, b->fine_dims.z}, step = c->step;
+  int n[3] = {b->fine_dims.x, b->fine_dims.y, b->fine_dims.z};
   lt_i32 grown = 0;
   for (int pass = 0; pass < b->expansion_passes; pass++)
     for (int face = 0; face < 6; face++) {
@@ -464,6 +497,27 @@ LT_DEVICE int lt_irg_heap_failed(const lt_irg_build *b, lt_i32 at) {
   if (at >= 0) return 0;
   lt_pool_fail(&b->pool, LT_POOL_ERROR_HEAP);
   return 1;
+}
+
+/* The GLOBAL task (builders/irgrid_global.h): its work words and chunk size. */
+#define LT_IRG_GLOBAL_CHUNK 256
+#define LT_IRG_W_PASS 0  /* merge pass, from 0 */
+#define LT_IRG_W_STAGE 1 /* LT_IRG_STAGE_* */
+#define LT_IRG_W_CELLS 2 /* cells when it started: the range its chunks cover */
+#define LT_IRG_W_LIVE 3  /* live cells before this pass */
+#define LT_IRG_W_PAIRS 4 /* pairs this pass merges */
+enum { LT_IRG_STAGE_CANDIDATES = 0, LT_IRG_STAGE_MERGE, LT_IRG_STAGE_EXPAND };
+
+/* Inserts the GLOBAL task over every cell made so far (all top cells are built). */
+LT_DEVICE void lt_irg_spawn_global(const lt_irg_build *b) {
+  lt_i32 cells = lt_heap_used(&b->cell_heap);
+  lt_i32 chunks = (cells + LT_IRG_GLOBAL_CHUNK - 1) / LT_IRG_GLOBAL_CHUNK;
+  lt_i32 slot = lt_pool_insert(&b->pool, LT_IRG_KIND_GLOBAL, b->top_count + 1, 0, cells, 0, chunks > 0 ? chunks : 1);
+  if (slot < 0) return;
+  LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
+  task->work[LT_IRG_W_STAGE] = LT_IRG_STAGE_CANDIDATES;
+  task->work[LT_IRG_W_CELLS] = cells, task->work[LT_IRG_W_LIVE] = cells;
+  lt_pool_publish(&b->pool, slot);
 }
 
 /* Materialises the task's top cell and publishes it. */
@@ -502,16 +556,15 @@ LT_DEVICE void lt_irg_build_top(const lt_irg_build *b, lt_i32 slot) {
   }
   lt_irg_count(b, LT_IRG_STAT_INITIAL, (lt_u32)c.voxels);
 
-  /* Merge passes round the axes until a round merges fewer than (1 - alpha) of the cells. */
+  /* Merge passes round the axes until a pass leaves at least alpha of the cells it started
+   * with (merges fewer than 1 - alpha of them). */
   lt_i32 live = c.voxels, merges = 0;
   if (b->merge && c.voxels > 1) {
-    for (;;) {
-      lt_i32 round = 0;
-      for (int a = 0; a < 3; a++) round += lt_irg_merge_pass(b, &c, a);
-      merges += round;
+    for (int a = 0;; a = (a + 1) % 3) {
+      lt_i32 merged = lt_irg_merge_pass(b, &c, a);
       float threshold = (1.0f - b->merge_alpha) * (float)live;
-      live -= round;
-      if (round == 0 || (float)round < threshold) break;
+      merges += merged, live -= merged;
+      if ((float)merged < threshold || merged == 0) break;
     }
   }
   lt_irg_count(b, LT_IRG_STAT_MERGES, (lt_u32)merges);
@@ -554,16 +607,18 @@ LT_DEVICE void lt_irg_build_top(const lt_irg_build *b, lt_i32 slot) {
   }
   for (lt_i32 v = 0; v < c.voxels; v++) b->sub_maps[map + v] = c.cand[c.smap[v]];
 
-  /* Each cell's fine box, grown by the expansion passes (stamps from here number checks). */
+  /* Each cell's fine box, grown by the expansion passes unless a GLOBAL task is to merge
+   * and grow them later (stamps from here number checks). */
   lt_u32 grown = 0;
   lt_i32 check = 0;
+  int later = b->global_merge && b->pool.mode == LT_POOL_FULL;
   for (lt_i32 j = 0; j < c.voxels; j++) c.stamp[j] = -1;
   for (lt_i32 j = 0; j < c.voxels; j++) {
     if (c.count[j] < 0) continue;
     int lo[3], hi[3];
     lt_irg_box_of(&c, j, lo, hi);
     for (int k = 0; k < 3; k++) lo[k] = c.origin[k] + lo[k] * c.step, hi[k] = c.origin[k] + hi[k] * c.step;
-    grown += (lt_u32)lt_irg_expand(b, &c, &check, lo, hi);
+    if (!later) grown += (lt_u32)lt_irg_expand(b, &c, &check, c.step, lo, hi);
     LT_GLOBAL lt_irg_cell *cell = &b->cells[c.cand[j]];
     for (int k = 0; k < 3; k++) cell->lo[k] = lo[k], cell->hi[k] = hi[k];
   }
@@ -572,9 +627,11 @@ LT_DEVICE void lt_irg_build_top(const lt_irg_build *b, lt_i32 slot) {
   lt_irg_count(b, LT_IRG_STAT_SORT_OPS, placed);
   lt_irg_count(b, LT_IRG_STAT_TOP_BUILT, 1);
 
-  /* Publish: cells and sub-map first, then the entry. */
+  /* Publish: cells and sub-map first, then the entry. The last top cell of a full build with
+   * global merging starts the GLOBAL task. */
   lt_fence();
   lt_atomic_store_i32(&b->top_map[c.t], LT_IRG_ENTRY(c.level, map));
+  if (lt_atomic_add_i32(&b->control[LT_IRG_CONTROL_TOPS_LEFT], -1) == 1 && later) lt_irg_spawn_global(b);
   lt_pool_retire(&b->pool, slot);
 }
 

@@ -221,7 +221,7 @@ typedef struct lt_structure_config {
   int kd_clip;            /* kd-tree: LT_KD_CLIP_*; default OFF */
   float irgrid_top_density;  /* irregular grid: top cells per triangle (lambda1); default 0.12 */
   float irgrid_cell_density; /* irregular grid: sub-voxels per reference of a top cell (lambda2); default 2.4 */
-  int irgrid_merge;          /* irregular grid: LT_IRGRID_MERGE_*; default ON (OFF: the two-level grid) */
+  int irgrid_merge;          /* irregular grid: LT_IRGRID_MERGE_*; default ON */
   float irgrid_merge_alpha;  /* irregular grid: merging stops when a round of passes merges fewer
                                 than 1 - alpha of the cells; default 0.995 */
   int irgrid_expansion_passes; /* irregular grid: LT_IRGRID_PASSES(n) for n passes; default 3 */
@@ -235,9 +235,11 @@ typedef struct lt_structure_config {
 enum { LT_KD_TRAVERSAL_STACK = 1, LT_KD_TRAVERSAL_RESTART, LT_KD_TRAVERSAL_BACKTRACK };
 enum { LT_KD_SPLIT_BINNED = 1, LT_KD_SPLIT_SWEEP };
 enum { LT_KD_CLIP_OFF = 1, LT_KD_CLIP_ON };
-/* The irregular grid's choices (0 in a config: the default): merging on or off, and the number
- * of expansion passes, 0 to 8, written LT_IRGRID_PASSES(n) so that 0 can stay "the default". */
-enum { LT_IRGRID_MERGE_ON = 1, LT_IRGRID_MERGE_OFF };
+/* The irregular grid's choices (0 in a config: the default). Merging: on (the paper's passes
+ * across the whole grid in a full build; within each top cell when top cells are built on
+ * demand), off (the two-level grid), or within top cells only in every mode. Expansion: the
+ * number of passes, 0 to 8, written LT_IRGRID_PASSES(n) so that 0 can stay "the default". */
+enum { LT_IRGRID_MERGE_ON = 1, LT_IRGRID_MERGE_OFF, LT_IRGRID_MERGE_TOP };
 #define LT_IRGRID_PASSES(n) ((n) + 1)
 #define LT_IRGRID_MAX_PASSES 8
 

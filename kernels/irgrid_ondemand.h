@@ -5,7 +5,7 @@
 #ifndef LT_KERNEL_IRGRID_ONDEMAND_H
 #define LT_KERNEL_IRGRID_ONDEMAND_H
 
-#include "builders/irgrid_task.h"
+#include "builders/irgrid_global.h"
 #include "device/kernel_args.h"
 #include "traversal/irgrid_traverse.h"
 
@@ -64,7 +64,8 @@ LT_DEVICE void lt_irg_flush(const lt_irg_args *a, const lt_trace_counters *c) {
 #define LT_LOOP_FLUSH(a, c) lt_irg_flush(a, c)
 #define LT_LOOP_TASK_KINDS(X)                                                  \
   X(LT_IRG_KIND_COUNT, lt_irg_count_chunk, lt_irg_count_end, &a->build)       \
-  X(LT_IRG_KIND_CELL, lt_irg_cell_chunk, lt_irg_cell_end, &a->build)
+  X(LT_IRG_KIND_CELL, lt_irg_cell_chunk, lt_irg_cell_end, &a->build)         \
+  X(LT_IRG_KIND_GLOBAL, lt_irg_global_chunk, lt_irg_global_end, &a->build)
 #include "kernels/persistent_loop_body.h"
 
 /* Both backends' entry: the set-up launch (work-item 0 of work-group 0) inserts the COUNT

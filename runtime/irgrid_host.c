@@ -90,6 +90,10 @@ lt_status lt__irgrid_create(lt_context *ctx, const lt_scene *scene, const lt__ir
     status = lt__buffer_create(ctx, &g->scratch, (size_t)ctx->work_groups * LT_IRG_SCRATCH * 4, NULL, LT_BUFFER_UNINIT);
   if (!status)
     status = lt__buffer_create(ctx, &g->counters, (size_t)ctx->work_groups * LT_IRG_STAT_COUNT * 4, NULL, 0);
+  if (!status) status = lt__buffer_create(ctx, &g->control, LT_IRG_CONTROL_WORDS * 4, NULL, 0);
+  /* The global passes' scratch: only a full build with global merging uses it. */
+  size_t scratch_cells = config->global_merge && mode == LT_POOL_FULL ? (size_t)room->cells : 1;
+  if (!status) status = lt__buffer_create(ctx, &g->cell_scratch, scratch_cells * 12, NULL, LT_BUFFER_UNINIT);
 
   /* The COUNT task, inserted on the device. */
   lt__buffer none;
@@ -109,7 +113,8 @@ void lt__irgrid_release(lt__irgrid *g) {
   lt__heap_release(&g->ref_heap);
   lt__heap_release(&g->map_heap);
   lt__buffer *buffers[] = {&g->verts, &g->prim_boxes, &g->header, &g->top_map, &g->top_begin, &g->top_fill,
-                           &g->sub_maps, &g->cells, &g->refs, &g->scratch, &g->counters};
+                           &g->sub_maps, &g->cells, &g->refs, &g->scratch, &g->counters, &g->control,
+                           &g->cell_scratch};
   for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++) lt__buffer_release(buffers[i]);
 }
 
@@ -127,6 +132,7 @@ static lt_status launch(lt__irgrid *g, lt__buffer *rays, lt__buffer *hits, int c
   args.verts = &g->verts, args.prim_boxes = &g->prim_boxes, args.header = &g->header, args.top_map = &g->top_map;
   args.top_begin = &g->top_begin, args.top_fill = &g->top_fill, args.sub_maps = &g->sub_maps, args.cells = &g->cells;
   args.refs = &g->refs, args.scratch = &g->scratch, args.counters = &g->counters;
+  args.control = &g->control, args.cell_scratch = &g->cell_scratch, args.global_merge = g->config.global_merge;
   args.fine_dims = g->fine.dims, args.prim_count = g->count, args.top_count = g->top_count;
   args.shift = LT_IRG_MAX_LEVEL, args.merge = g->config.merge, args.expansion_passes = g->config.expansion_passes;
   args.cell_density = g->config.cell_density, args.merge_alpha = g->config.merge_alpha;
@@ -212,7 +218,7 @@ double lt__irgrid_bytes(lt__irgrid *g, double *cell_bytes, double *reference_byt
   *pool_bytes = (double)(g->pool.headers.bytes + g->pool.tasks.bytes + g->pool.empty_cache.bytes +
                          g->pool.priority_cache.bytes + g->pool.control.bytes);
   return *cell_bytes + *reference_bytes + *map_bytes + *pool_bytes + (double)g->prim_boxes.bytes +
-         (double)g->top_fill.bytes + (double)g->scratch.bytes;
+         (double)g->top_fill.bytes + (double)g->scratch.bytes + (double)g->cell_scratch.bytes;
 }
 
 void lt__irgrid_arrays_free(lt__irgrid_arrays *a) {

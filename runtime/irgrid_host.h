@@ -13,6 +13,7 @@ typedef struct lt__irgrid_config {
   float cell_density;   /* lambda2: sub-voxels per reference of a top cell */
   float merge_alpha;    /* merging stops when a round merges fewer than 1 - alpha of the cells */
   int merge;            /* 0: no merge passes (the two-level grid) */
+  int global_merge;     /* merge across top cells once all are built (full builds) */
   int expansion_passes;
   float traversal_cost, intersection_cost; /* Ct, Ci of the merge cost */
 } lt__irgrid_config;
@@ -27,6 +28,7 @@ typedef struct lt__irgrid {
   lt__pool pool;
   lt__heap cell_heap, ref_heap, map_heap;
   lt__buffer verts, prim_boxes, header, top_map, top_begin, top_fill, sub_maps, cells, refs, scratch, counters;
+  lt__buffer control, cell_scratch;
   lt_grid_header fine; /* the fine grid */
   int top_dims[3], top_count, count;
   lt__irgrid_config config;

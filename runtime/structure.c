@@ -112,7 +112,7 @@ lt_status lt_structure_create(lt_context *ctx, const lt_scene *scene, const lt_s
   if (!(config->irgrid_top_density >= 0.0f && config->irgrid_top_density < INFINITY) ||
       !(config->irgrid_cell_density >= 0.0f && config->irgrid_cell_density < INFINITY) ||
       !(config->irgrid_merge_alpha >= 0.0f && config->irgrid_merge_alpha <= 1.0f) ||
-      (unsigned)config->irgrid_merge > LT_IRGRID_MERGE_OFF ||
+      (unsigned)config->irgrid_merge > LT_IRGRID_MERGE_TOP ||
       (unsigned)config->irgrid_expansion_passes > LT_IRGRID_PASSES(LT_IRGRID_MAX_PASSES))
     return lt__fail(LT_ERROR_INVALID_ARGUMENT,
                     "bad irregular grid config (top density %g, cell density %g, merge %d, alpha %g, expansion %d): "

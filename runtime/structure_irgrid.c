@@ -67,6 +67,7 @@ static lt_status create(lt_structure *s, lt_stats *stats) {
     return lt__fail(LT_ERROR_INVALID_ARGUMENT, "the irregular grid takes at most %d triangles", MAX_HEAP / 16);
   g->config.top_density = c->irgrid_top_density, g->config.cell_density = c->irgrid_cell_density;
   g->config.merge = c->irgrid_merge != LT_IRGRID_MERGE_OFF, g->config.merge_alpha = c->irgrid_merge_alpha;
+  g->config.global_merge = c->irgrid_merge == LT_IRGRID_MERGE_ON && c->build == LT_BUILD_FULL;
   g->config.expansion_passes = c->irgrid_expansion_passes - 1;
   g->config.traversal_cost = 1.0f, g->config.intersection_cost = 1.0f; /* Ct = Ci = 1, as in the paper */
 
@@ -109,14 +110,16 @@ static void put_stats(lt_structure *s, lt_stats *stats) {
   const double *t = g->grid.totals;
   double cell_bytes, ref_bytes, map_bytes, pool_bytes;
   double memory = lt__irgrid_bytes(&g->grid, &cell_bytes, &ref_bytes, &map_bytes, &pool_bytes);
-  lt__stats_put(stats, LT_STAT_REFERENCES, t[LT_IRG_STAT_CELL_REFS]);
-  lt__stats_put(stats, LT_STAT_NODES_BUILT, t[LT_IRG_STAT_CELLS]);
-  if (mode_of(s) == LT_BUILD_FULL) lt__stats_put(stats, LT_STAT_NODES_FULL, t[LT_IRG_STAT_CELLS]);
+  /* Cells and references live: those the top cells made, less what the global passes merged. */
+  double cells = t[LT_IRG_STAT_CELLS] - t[LT_IRG_STAT_GLOBAL_MERGES];
+  lt__stats_put(stats, LT_STAT_REFERENCES, t[LT_IRG_STAT_CELL_REFS] - t[LT_IRG_STAT_REFS_SAVED]);
+  lt__stats_put(stats, LT_STAT_NODES_BUILT, cells);
+  if (mode_of(s) == LT_BUILD_FULL) lt__stats_put(stats, LT_STAT_NODES_FULL, cells);
   lt__stats_put(stats, LT_STAT_CELLS_TOP, g->grid.top_count);
   lt__stats_put(stats, LT_STAT_CELLS_TOP_BUILT, t[LT_IRG_STAT_TOP_BUILT]);
   lt__stats_put(stats, LT_STAT_CELLS_INITIAL, t[LT_IRG_STAT_INITIAL]);
-  lt__stats_put(stats, LT_STAT_CELLS_FINAL, t[LT_IRG_STAT_CELLS]);
-  lt__stats_put(stats, LT_STAT_CELLS_MERGES, t[LT_IRG_STAT_MERGES]);
+  lt__stats_put(stats, LT_STAT_CELLS_FINAL, cells);
+  lt__stats_put(stats, LT_STAT_CELLS_MERGES, t[LT_IRG_STAT_MERGES] + t[LT_IRG_STAT_GLOBAL_MERGES]);
   lt__stats_put(stats, LT_STAT_CELLS_EXPANSIONS, t[LT_IRG_STAT_EXPANSIONS]);
   lt__stats_put(stats, LT_STAT_MEMORY_BYTES, memory);
   lt__stats_put(stats, LT_STAT_NODE_BYTES, cell_bytes);
@@ -143,7 +146,9 @@ static const lt__param params[] = {
     LT__PARAM_FLOAT("--top-density", irgrid_top_density, 0.0001, 100, "top-level cells per triangle (lambda1)"),
     LT__PARAM_FLOAT("--cell-density", irgrid_cell_density, 0.001, 1000,
                     "sub-voxels per reference of a top cell (lambda2); a top cell is cut into 8^level"),
-    LT__PARAM_CHOICE("--merge", irgrid_merge, "on|off", "SAH merge passes (off: the two-level grid)"),
+    LT__PARAM_CHOICE("--merge", irgrid_merge, "on|off|top",
+                     "SAH merge passes: across the grid in a full build (within top cells on demand), none (the "
+                     "two-level grid), or within top cells only"),
     LT__PARAM_FLOAT("--merge-alpha", irgrid_merge_alpha, 0.001, 1,
                     "merging stops when a round merges fewer than 1 - alpha of the cells"),
     LT__PARAM_CHOICE("--expansion-passes", irgrid_expansion_passes, "0|1|2|3|4|5|6|7|8",

@@ -70,8 +70,10 @@ static void irgrid_matches_reference_in_every_mode(void **state) {
   int have_opencl = lt_test_opencl_available();
   const launch launches[] = {{LT_DEVICE_NATIVE, 2, 1}, {LT_DEVICE_NATIVE, 1, 1}, {LT_DEVICE_NATIVE, 3, 1},
                              {LT_DEVICE_OPENCL, 0, 1}, {LT_DEVICE_OPENCL, 2, 4}};
-  size_t first = getenv("LT_TEST_QUICK") ? 3 : 0;
-  for (size_t s = first; s < sizeof specs / sizeof specs[0]; s++) {
+  /* Quick (the sanitizers): the small scenes only. */
+  int quick = getenv("LT_TEST_QUICK") != NULL;
+  size_t first = quick ? 3 : 0, end = quick ? 6 : sizeof specs / sizeof specs[0];
+  for (size_t s = first; s < end; s++) {
     lt_scene *scene;
     assert_int_equal(lt_scene_load(specs[s], &scene), LT_OK);
     lt_ray *rays = malloc(RAY_COUNT * sizeof *rays);
@@ -193,6 +195,7 @@ typedef struct setting {
 
 static const setting settings[] = {
     {"defaults", 0, 0, 0, 0},
+    {"merges within top cells", 0, 0, LT_IRGRID_MERGE_TOP, 0},
     {"two-level (no merge, no expansion)", 0, 0, LT_IRGRID_MERGE_OFF, LT_IRGRID_PASSES(0)},
     {"merge, no expansion", 0, 0, 0, LT_IRGRID_PASSES(0)},
     {"8 expansion passes", 0, 0, 0, LT_IRGRID_PASSES(8)},
@@ -229,17 +232,20 @@ static void irgrid_cells_reference_exactly_what_meets_them(void **state) {
   }
 }
 
-/* Every top cell built on demand has the full build's level, and its sub-voxels cells with the
- * full build's boxes and references. */
+/* Every top cell built on demand has the level of a full build that merges within top cells,
+ * and its sub-voxels cells with that build's boxes and references. */
 static void irgrid_top_cells_built_on_demand_equal_the_full_build(void **state) {
   (void)state;
   lt_scene *scene;
-  assert_int_equal(lt_scene_load("house-row:2", &scene), LT_OK);
-  int side = getenv("LT_TEST_QUICK") ? 48 : 96;
+  int quick = getenv("LT_TEST_QUICK") != NULL;
+  assert_int_equal(lt_scene_load(quick ? "hairball:300" : "house-row:2", &scene), LT_OK);
+  int side = quick ? 32 : 96;
   size_t n = (size_t)side * side;
   lt_ray *rays = malloc(n * sizeof *rays);
   lt_test_camera_rays(scene, "close", side, side, rays);
+  /* On demand, merges stay within top cells: the full build to compare with does the same. */
   lt_structure_config full_config = irgrid_config(LT_BUILD_FULL);
+  full_config.irgrid_merge = LT_IRGRID_MERGE_TOP;
   built full = build_grid(scene, &full_config, NULL, 0);
   for (int mode = LT_BUILD_REQUESTED; mode <= LT_BUILD_SPECULATIVE; mode++) {
     lt_structure_config sc = irgrid_config((lt_build_mode)mode);
@@ -277,10 +283,11 @@ static void irgrid_builds_only_what_rays_reach(void **state) {
   (void)state;
   lt_scene *scene;
   int quick = getenv("LT_TEST_QUICK") != NULL;
-  assert_int_equal(lt_scene_load(quick ? "house-row:2" : "house-row:4", &scene), LT_OK);
-  size_t n = 64 * 64;
+  assert_int_equal(lt_scene_load(quick ? "house" : "house-row:4", &scene), LT_OK);
+  int side = quick ? 32 : 64;
+  size_t n = (size_t)side * side;
   lt_ray *rays = malloc(n * sizeof *rays);
-  lt_test_camera_rays(scene, "outer", 64, 64, rays);
+  lt_test_camera_rays(scene, "outer", side, side, rays);
   double tops[LT_BUILD_SPECULATIVE + 1], cells[LT_BUILD_SPECULATIVE + 1];
   for (int mode = LT_BUILD_FULL; mode <= LT_BUILD_SPECULATIVE; mode++) {
     lt_stats *stats;
@@ -293,8 +300,8 @@ static void irgrid_builds_only_what_rays_reach(void **state) {
     assert_true(lt_stats_get(stats, "cells.top") >= tops[mode]);
     lt_stats_destroy(stats);
   }
-  fprintf(stderr, "irgrid house-row outer, 64x64: top cells built full %.0f, requested %.0f, speculative %.0f; "
-          "cells %.0f, %.0f, %.0f\n", tops[LT_BUILD_FULL], tops[LT_BUILD_REQUESTED], tops[LT_BUILD_SPECULATIVE],
+  fprintf(stderr, "irgrid %s outer, %dx%d: top cells built full %.0f, requested %.0f, speculative %.0f; "
+          "cells %.0f, %.0f, %.0f\n", quick ? "house" : "house-row:4", side, side, tops[LT_BUILD_FULL], tops[LT_BUILD_REQUESTED], tops[LT_BUILD_SPECULATIVE],
           cells[LT_BUILD_FULL], cells[LT_BUILD_REQUESTED], cells[LT_BUILD_SPECULATIVE]);
   assert_true(cells[LT_BUILD_REQUESTED] < 0.5 * cells[LT_BUILD_FULL]);
   assert_true(tops[LT_BUILD_REQUESTED] < tops[LT_BUILD_FULL]);
@@ -326,8 +333,9 @@ static void check_settings(const char *what, const lt_scene *scene, const lt_ray
 
 static void irgrid_settings_match_reference(void **state) {
   (void)state;
-  static const char *const scenes[] = {"house", "hairball:300", "cornell"};
-  for (size_t s = 0; s < sizeof scenes / sizeof scenes[0]; s++) {
+  static const char *const scenes[] = {"hairball:300", "cornell", "house"};
+  size_t count = getenv("LT_TEST_QUICK") ? 2 : 3;
+  for (size_t s = 0; s < count; s++) {
     lt_scene *scene;
     assert_int_equal(lt_scene_load(scenes[s], &scene), LT_OK);
     lt_ray *rays = malloc(RAY_COUNT * sizeof *rays);
@@ -379,7 +387,7 @@ static void irgrid_statistics_are_filled(void **state) {
   assert_true(lt_stats_get(stats, "references") >= (double)tris);
   assert_true(lt_stats_get(stats, "sort_ops") >= (double)tris);
   assert_true(lt_stats_get(stats, "map_bytes") >= 4 * initial);
-  assert_true(lt_stats_get(stats, "node_bytes") == 32 * final);
+  assert_true(lt_stats_get(stats, "node_bytes") >= 32 * final); /* with cells the global passes merged away */
   assert_true(lt_stats_get(stats, "traversal_steps") > 0 && lt_stats_get(stats, "intersections") > 0);
   lt_stats_destroy(stats);
   free(rays);
@@ -424,7 +432,7 @@ static void irgrid_bad_settings_are_refused(void **state) {
   for (int i = 0; i < 4; i++) bad[i] = irgrid_config(LT_BUILD_FULL);
   bad[0].irgrid_top_density = -1.0f / 0.0f;
   bad[1].irgrid_merge_alpha = 1.5f;
-  bad[2].irgrid_merge = 3;
+  bad[2].irgrid_merge = LT_IRGRID_MERGE_TOP + 1;
   bad[3].irgrid_expansion_passes = LT_IRGRID_PASSES(LT_IRGRID_MAX_PASSES + 1);
   for (int i = 0; i < 4; i++) {
     assert_int_equal(lt_structure_create(ctx, scene, &bad[i], NULL, &g), LT_ERROR_INVALID_ARGUMENT);

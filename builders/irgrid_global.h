@@ -1,0 +1,187 @@
+/* The irregular grid's GLOBAL task: the paper's merge passes across top cells, then the
+ * expansion passes, over the whole grid once every top cell is built (full builds only: on
+ * demand a neighbour may never be built, and a built cell must not change under a ray).
+ *
+ * A pass along axis a has two phases over chunks of cells. Candidates: each live cell finds
+ * the cell beyond its upper face (through the voxel map) and, when the two have the same
+ * extent on the other axes and merging lowers (Ci * |T| + Ct) * SA(B), counts their union by
+ * one walk over both ascending lists. The phase end pairs the candidates along each chain from
+ * its lower end (one work-item, one walk over the cells). Merge: each pair writes the union's
+ * list to new room in the reference heap (the old lists stay: the heap never frees), grows the
+ * lower cell over the upper one, kills the upper one and points its voxels at the lower one.
+ * Pairs are disjoint, so chunks never write the same cell or voxel. Passes go round the axes
+ * until one merges fewer than 1 - alpha of the live cells. The expansion phase grows every
+ * live cell as a CELL task does (builders/irgrid_task.h), reading its neighbours' cells. */
+#ifndef LT_IRGRID_GLOBAL_H
+#define LT_IRGRID_GLOBAL_H
+
+#include "builders/irgrid_task.h"
+
+/* Scratch per cell: the candidate (then the partner of a pair's lower cell), the union's size,
+ * and whether a candidate points at it. */
+#define LT_IRG_CAND(b, j) ((b)->cell_scratch[3 * (long)(j)])
+#define LT_IRG_UNION(b, j) ((b)->cell_scratch[3 * (long)(j) + 1])
+#define LT_IRG_POINTED(b, j) ((b)->cell_scratch[3 * (long)(j) + 2])
+
+LT_DEVICE int lt_irg_dead(LT_GLOBAL const lt_irg_cell *cell) { return cell->lo[0] < 0; }
+
+/* The size of the union of two ascending lists. */
+LT_DEVICE lt_i32 lt_irg_union_size(LT_GLOBAL const lt_i32 *a, lt_i32 na, LT_GLOBAL const lt_i32 *b, lt_i32 nb) {
+  lt_i32 i = 0, j = 0, n = 0;
+  while (i < na && j < nb) {
+    lt_i32 x = a[i], y = b[j];
+    i += x <= y, j += y <= x, n++;
+  }
+  return n + (na - i) + (nb - j);
+}
+
+/* The merge cost of a fine box holding n triangles (Ct, Ci of the build; the common factor 2
+ * of surface areas left out). */
+LT_DEVICE float lt_irg_fine_cost(const lt_irg_build *b, const lt_i32 lo[3], const lt_i32 hi[3], lt_i32 n) {
+  float e[3];
+  for (int k = 0; k < 3; k++) e[k] = (float)(hi[k] - lo[k]) * lt_grid_axis_of(b->header, k).size;
+  return (b->intersection_cost * (float)n + b->traversal_cost) * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0]);
+}
+
+/* Cell j's candidate along axis a, or -1; its union size in LT_IRG_UNION. */
+LT_DEVICE void lt_irg_global_candidate(const lt_irg_build *b, lt_i32 j, int a) {
+  LT_IRG_CAND(b, j) = -1;
+  LT_IRG_POINTED(b, j) = 0;
+  LT_GLOBAL const lt_irg_cell *c = &b->cells[j];
+  int n_a = a == 0 ? b->fine_dims.x : a == 1 ? b->fine_dims.y : b->fine_dims.z;
+  if (lt_irg_dead(c) || c->hi[a] >= n_a) return;
+  int at[3] = {c->lo[0], c->lo[1], c->lo[2]};
+  at[a] = c->hi[a];
+  lt_i32 n = lt_irg_lookup(b->top_map, b->sub_maps, b->fine_dims, b->shift, at[0], at[1], at[2]);
+  if (n < 0) return;
+  LT_GLOBAL const lt_irg_cell *d = &b->cells[n];
+  for (int k = 0; k < 3; k++)
+    if (k == a ? d->lo[k] != c->hi[k] : d->lo[k] != c->lo[k] || d->hi[k] != c->hi[k]) return;
+  lt_i32 both = lt_irg_union_size(b->refs + c->begin, c->end - c->begin, b->refs + d->begin, d->end - d->begin);
+  lt_i32 clo[3] = {c->lo[0], c->lo[1], c->lo[2]}, chi[3] = {c->hi[0], c->hi[1], c->hi[2]};
+  lt_i32 dlo[3] = {d->lo[0], d->lo[1], d->lo[2]}, dhi[3] = {d->hi[0], d->hi[1], d->hi[2]};
+  lt_i32 uhi[3] = {chi[0], chi[1], chi[2]};
+  uhi[a] = dhi[a];
+  float apart = lt_irg_fine_cost(b, clo, chi, c->end - c->begin) + lt_irg_fine_cost(b, dlo, dhi, d->end - d->begin);
+  if (!(lt_irg_fine_cost(b, clo, uhi, both) < apart)) return;
+  LT_IRG_CAND(b, j) = n;
+  LT_IRG_UNION(b, j) = both;
+}
+
+/* Points every voxel of fine box [lo, hi) at cell j (all its top cells are built). */
+LT_DEVICE void lt_irg_point_voxels(const lt_irg_build *b, const lt_i32 lo[3], const lt_i32 hi[3], lt_i32 j) {
+  int tx = b->fine_dims.x >> b->shift, ty = b->fine_dims.y >> b->shift, span = 1 << b->shift;
+  for (int z = lo[2] >> b->shift; z <= (hi[2] - 1) >> b->shift; z++)
+    for (int y = lo[1] >> b->shift; y <= (hi[1] - 1) >> b->shift; y++)
+      for (int x = lo[0] >> b->shift; x <= (hi[0] - 1) >> b->shift; x++) {
+        lt_i32 entry = b->top_map[lt_grid_cell_index(tx, ty, x, y, z)];
+        int level = LT_IRG_ENTRY_LEVEL(entry), down = b->shift - level, side = 1 << level;
+        int origin[3] = {x << b->shift, y << b->shift, z << b->shift}, slo[3], shi[3];
+        for (int k = 0; k < 3; k++) {
+          int l = lo[k] - origin[k], h = hi[k] - 1 - origin[k];
+          slo[k] = (l < 0 ? 0 : l) >> down, shi[k] = (h > span - 1 ? span - 1 : h) >> down;
+        }
+        for (int sz = slo[2]; sz <= shi[2]; sz++)
+          for (int sy = slo[1]; sy <= shi[1]; sy++)
+            for (int sx = slo[0]; sx <= shi[0]; sx++)
+              b->sub_maps[LT_IRG_ENTRY_BASE(entry) + sx + side * (sy + side * sz)] = j;
+      }
+}
+
+/* Merges cell j with its partner along axis a. */
+LT_DEVICE void lt_irg_global_merge(const lt_irg_build *b, lt_i32 j, int a) {
+  lt_i32 n = LT_IRG_CAND(b, j), both = LT_IRG_UNION(b, j);
+  LT_GLOBAL lt_irg_cell *c = &b->cells[j];
+  LT_GLOBAL lt_irg_cell *d = &b->cells[n];
+  lt_i32 at = both > 0 ? lt_heap_alloc(&b->ref_heap, both) : 0;
+  if (at < 0) {
+    lt_pool_fail(&b->pool, LT_POOL_ERROR_HEAP);
+    return;
+  }
+  /* The union of the two ascending lists, ascending. */
+  lt_i32 i = c->begin, k = d->begin, out = at;
+  while (i < c->end || k < d->end) {
+    lt_i32 x = i < c->end ? b->refs[i] : 0x7fffffff, y = k < d->end ? b->refs[k] : 0x7fffffff;
+    b->refs[out++] = x < y ? x : y;
+    i += x <= y, k += y <= x;
+  }
+  lt_irg_count(b, LT_IRG_STAT_REFS_SAVED, (lt_u32)((c->end - c->begin) + (d->end - d->begin) - both));
+  lt_irg_count(b, LT_IRG_STAT_SORT_OPS, (lt_u32)both);
+  lt_i32 dlo[3] = {d->lo[0], d->lo[1], d->lo[2]}, dhi[3] = {d->hi[0], d->hi[1], d->hi[2]};
+  c->begin = at, c->end = at + both, c->hi[a] = dhi[a];
+  d->lo[0] = -1;
+  lt_irg_point_voxels(b, dlo, dhi, j);
+}
+
+LT_DEVICE void lt_irg_global_chunk(const lt_irg_build *b, lt_i32 slot, lt_i32 chunk, int lid, int lsize) {
+  LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
+  int stage = task->work[LT_IRG_W_STAGE], a = task->work[LT_IRG_W_PASS] % 3;
+  lt_i32 first = chunk * LT_IRG_GLOBAL_CHUNK, end = first + LT_IRG_GLOBAL_CHUNK, cells = task->work[LT_IRG_W_CELLS];
+  end = end < cells ? end : cells;
+  for (lt_i32 j = first + lid; j < end; j += lsize) {
+    if (stage == LT_IRG_STAGE_CANDIDATES) {
+      lt_irg_global_candidate(b, j, a);
+    } else if (stage == LT_IRG_STAGE_MERGE) {
+      if (LT_IRG_CAND(b, j) >= 0) lt_irg_global_merge(b, j, a);
+    } else if (!lt_irg_dead(&b->cells[j])) {
+      LT_GLOBAL lt_irg_cell *c = &b->cells[j];
+      int lo[3] = {c->lo[0], c->lo[1], c->lo[2]}, hi[3] = {c->hi[0], c->hi[1], c->hi[2]};
+      /* Layers as thick as the cell's thinnest side, at least one voxel of the top cell it
+       * starts in. */
+      lt_i32 entry = b->top_map[lt_irg_top_of(b->fine_dims, b->shift, lo[0], lo[1], lo[2])];
+      lt_i32 check = 0;
+      lt_u32 grown = (lt_u32)lt_irg_expand(b, 0, &check, 1 << (b->shift - LT_IRG_ENTRY_LEVEL(entry)), lo, hi);
+      for (int k = 0; k < 3; k++) c->lo[k] = lo[k], c->hi[k] = hi[k];
+      lt_irg_count(b, LT_IRG_STAT_EXPANSIONS, grown);
+    }
+  }
+}
+
+/* Pairs the candidates along each chain from its lower end; returns the pairs. */
+LT_DEVICE lt_i32 lt_irg_global_pair(const lt_irg_build *b, lt_i32 cells) {
+  for (lt_i32 j = 0; j < cells; j++)
+    if (LT_IRG_CAND(b, j) >= 0) LT_IRG_POINTED(b, LT_IRG_CAND(b, j)) = 1;
+  lt_i32 pairs = 0;
+  for (lt_i32 h = 0; h < cells; h++) {
+    if (LT_IRG_CAND(b, h) < 0 || LT_IRG_POINTED(b, h)) continue;
+    for (lt_i32 j = h; j >= 0;) {
+      lt_i32 n = LT_IRG_CAND(b, j);
+      if (n < 0) break;
+      lt_i32 next = LT_IRG_CAND(b, n);
+      LT_IRG_CAND(b, n) = -1; /* the upper cell of a pair is no lower cell this pass */
+      pairs++;
+      j = next;
+    }
+  }
+  return pairs;
+}
+
+LT_DEVICE void lt_irg_global_end(const lt_irg_build *b, lt_i32 slot) {
+  LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
+  lt_i32 cells = task->work[LT_IRG_W_CELLS], chunks = task->chunks;
+  int stage = task->work[LT_IRG_W_STAGE];
+  if (stage == LT_IRG_STAGE_CANDIDATES) {
+    task->work[LT_IRG_W_PAIRS] = lt_irg_global_pair(b, cells);
+    task->work[LT_IRG_W_STAGE] = LT_IRG_STAGE_MERGE;
+    lt_fence();
+    lt_pool_next_phase(&b->pool, slot, task->phase + 1, chunks);
+    return;
+  }
+  if (stage == LT_IRG_STAGE_MERGE) {
+    lt_i32 pairs = task->work[LT_IRG_W_PAIRS], live = task->work[LT_IRG_W_LIVE];
+    lt_irg_count(b, LT_IRG_STAT_GLOBAL_MERGES, (lt_u32)pairs);
+    task->work[LT_IRG_W_LIVE] = live - pairs;
+    int again = pairs > 0 && !((float)pairs < (1.0f - b->merge_alpha) * (float)live);
+    task->work[LT_IRG_W_PASS] += again;
+    task->work[LT_IRG_W_STAGE] = again ? LT_IRG_STAGE_CANDIDATES : LT_IRG_STAGE_EXPAND;
+    if (again || b->expansion_passes > 0) {
+      lt_fence();
+      lt_pool_next_phase(&b->pool, slot, task->phase + 1, chunks);
+      return;
+    }
+  }
+  lt_fence();
+  lt_pool_retire(&b->pool, slot);
+}
+
+#endif
