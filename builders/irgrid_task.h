@@ -6,7 +6,9 @@
  *   COUNT  one task over all triangles, three phases whose chunks every work-group takes:
  *          0 counts the references of each top cell, 1 fills the top cells' lists, 2 sorts
  *          each list. Its phase ends take the lists' room from the reference heap and, last,
- *          insert one CELL task per top cell (waiting for a ray in a requested build).
+ *          insert one CELL task per top cell (waiting for a ray in a requested build). For a
+ *          uniform grid (Thrane and Simonsen 2005) it is all there is: the top grid's lists
+ *          are the uniform grid's cells, traced by traversal/grid_traverse.h.
  *   CELL   materialises one top cell, on one work-item: the initial subdivision into 8^level
  *          sub-voxels (level from the cell density lambda2 and the top cell's references), the
  *          SAH merge passes, the references of the cells that are left, the expansion passes,
@@ -97,6 +99,7 @@ typedef struct lt_irg_build {
   lt_i32 prim_count, top_count, shift;
   lt_i32 merge;                       /* whether to merge at all */
   lt_i32 global_merge;                /* whether a GLOBAL task merges across top cells once all are built */
+  lt_i32 uniform;                     /* a uniform grid: the COUNT task alone, top cells never cut */
   lt_i32 expansion_passes;
   float cell_density;                 /* lambda2 */
   float merge_alpha;
@@ -128,6 +131,7 @@ typedef struct lt_irg_build {
   X(VAL, lt_i32, V.shift, shift)                     \
   X(VAL, lt_i32, V.merge, merge)                     \
   X(VAL, lt_i32, V.global_merge, global_merge)       \
+  X(VAL, lt_i32, V.uniform, uniform)                 \
   X(VAL, lt_i32, V.expansion_passes, expansion_passes) \
   X(VAL, float, V.cell_density, cell_density)        \
   X(VAL, float, V.merge_alpha, merge_alpha)          \
@@ -253,7 +257,7 @@ LT_DEVICE void lt_irg_count_end(const lt_irg_build *b, lt_i32 slot) {
   } else {
     lt_atomic_store_i32(&b->control[LT_IRG_CONTROL_TOPS_LEFT], b->top_count);
     lt_fence();
-    lt_irg_spawn_cells(b);
+    if (!b->uniform) lt_irg_spawn_cells(b);
     lt_pool_retire(&b->pool, slot);
   }
 }

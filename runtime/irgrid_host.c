@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "builders/host/grid.h"
 #include "kernels/irgrid_ondemand.h"
 #include "kernels/irgrid_trace.h"
 #include "kernels/native_kernels.h"
@@ -64,14 +65,22 @@ lt_status lt__irgrid_create(lt_context *ctx, const lt_scene *scene, const lt__ir
    * overflow a float. */
   double extent[3];
   for (int k = 0; k < 3; k++) extent[k] = (double)bounds.hi[k] - (double)bounds.lo[k];
-  lt__irgrid_top_dims(extent, n, config->top_density, g->top_dims);
+  if (config->uniform > 0) {
+    lt__grid_config uniform = lt__grid_config_default();
+    uniform.resolution_factor = config->uniform;
+    lt__grid_resolution(extent, n, &uniform, g->top_dims);
+    g->shift = 0;
+  } else {
+    lt__irgrid_top_dims(extent, n, config->top_density, g->top_dims);
+    g->shift = LT_IRG_MAX_LEVEL;
+  }
   g->top_count = g->top_dims[0] * g->top_dims[1] * g->top_dims[2];
   int fine[3];
-  for (int k = 0; k < 3; k++) fine[k] = g->top_dims[k] << LT_IRG_MAX_LEVEL;
+  for (int k = 0; k < 3; k++) fine[k] = g->top_dims[k] << g->shift;
   g->fine.lo = lt_make_float4(bounds.lo[0], bounds.lo[1], bounds.lo[2], 0.0f);
   g->fine.hi = lt_make_float4(bounds.hi[0], bounds.hi[1], bounds.hi[2], 0.0f);
   g->fine.size = lt_make_float4((float)(extent[0] / fine[0]), (float)(extent[1] / fine[1]), (float)(extent[2] / fine[2]), 0.0f);
-  g->fine.dims = lt_make_int4(fine[0], fine[1], fine[2], 0);
+  g->fine.dims = lt_make_int4(fine[0], fine[1], fine[2], fine[0] * fine[1] * fine[2]);
 
   lt_pool_config pool = {room->pool, 0, 0, 0, 0, 0};
   status = lt__pool_create(ctx, &pool, mode, &g->pool);
@@ -80,7 +89,8 @@ lt_status lt__irgrid_create(lt_context *ctx, const lt_scene *scene, const lt__ir
   if (!status) status = lt__heap_create(ctx, &g->map_heap, room->maps);
   if (!status) status = lt__buffer_wrap(ctx, &g->verts, lt_scene_triangles(scene), n * 9 * sizeof(float));
   if (!status) status = lt__buffer_create(ctx, &g->header, sizeof g->fine, &g->fine, 0);
-  if (!status) status = lt__buffer_create(ctx, &g->top_map, (size_t)g->top_count * 4, NULL, LT_IRG_COUNTING);
+  size_t top_map = config->uniform > 0 ? 1 : (size_t)g->top_count; /* a uniform grid has no voxel map */
+  if (!status) status = lt__buffer_create(ctx, &g->top_map, top_map * 4, NULL, LT_IRG_COUNTING);
   if (!status) status = lt__buffer_create(ctx, &g->top_begin, (size_t)(g->top_count + 1) * 4, NULL, 0);
   if (!status) status = lt__buffer_create(ctx, &g->top_fill, (size_t)g->top_count * 4, NULL, 0);
   if (!status) status = lt__buffer_create(ctx, &g->sub_maps, (size_t)room->maps * 4, NULL, LT_BUFFER_UNINIT);
@@ -134,7 +144,7 @@ static lt_status launch(lt__irgrid *g, lt__buffer *rays, lt__buffer *hits, int c
   args.refs = &g->refs, args.scratch = &g->scratch, args.counters = &g->counters;
   args.control = &g->control, args.cell_scratch = &g->cell_scratch, args.global_merge = g->config.global_merge;
   args.fine_dims = g->fine.dims, args.prim_count = g->count, args.top_count = g->top_count;
-  args.shift = LT_IRG_MAX_LEVEL, args.merge = g->config.merge, args.expansion_passes = g->config.expansion_passes;
+  args.shift = g->shift, args.uniform = g->config.uniform > 0, args.merge = g->config.merge, args.expansion_passes = g->config.expansion_passes;
   args.cell_density = g->config.cell_density, args.merge_alpha = g->config.merge_alpha;
   args.traversal_cost = g->config.traversal_cost, args.intersection_cost = g->config.intersection_cost;
   args.rays = rays, args.hits = hits, args.ray_count = count, args.flags = flags;
@@ -189,7 +199,7 @@ lt_status lt__irgrid_launch(lt__irgrid *g, const lt_ray *rays, int count, int fl
 lt_status lt__irgrid_trace_finished(lt__irgrid *g, const lt_ray *rays, int count, int flags, lt_hit *hits,
                                     lt_stats *stats) {
   irg_trace_args args = {NULL, NULL, 0, 0, &g->header, &g->top_map, &g->sub_maps, &g->cells, &g->refs, &g->verts,
-                         g->fine.dims, LT_IRG_MAX_LEVEL};
+                         g->fine.dims, g->shift};
   lt_irg_trace_view view;
   lt__trace_call call = {"lt_irg_trace", lt__native_irgrid_trace_kernel, irg_trace_args_set_any, irg_trace_args_view_any,
                          &args, &args.rays, &args.hits, &args.ray_count, &args.flags, &view};
@@ -243,7 +253,7 @@ lt_status lt__irgrid_read(lt__irgrid *g, lt__irgrid_arrays *out) {
     lt__irgrid_arrays_free(out);
     return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory copying an irregular grid");
   }
-  status = lt__buffer_read(g->ctx, &g->top_map, 0, top * 4, out->top_map);
+  status = lt__buffer_read(g->ctx, &g->top_map, 0, g->top_map.bytes < top * 4 ? g->top_map.bytes : top * 4, out->top_map);
   if (!status) status = lt__buffer_read(g->ctx, &g->top_begin, 0, (top + 1) * 4, out->top_begin);
   if (!status) status = lt__buffer_read(g->ctx, &g->sub_maps, 0, (size_t)out->sub_count * 4, out->sub_maps);
   if (!status) status = lt__buffer_read(g->ctx, &g->refs, 0, (size_t)out->ref_count * 4, out->refs);

@@ -16,6 +16,8 @@ typedef struct lt__irgrid_config {
   int global_merge;     /* merge across top cells once all are built (full builds) */
   int expansion_passes;
   float traversal_cost, intersection_cost; /* Ct, Ci of the merge cost */
+  float uniform;        /* > 0: a uniform grid of this resolution factor (builders/host/grid.h), top
+                           cells never cut: the COUNT task alone builds it */
 } lt__irgrid_config;
 
 /* What the heaps hold room for. */
@@ -31,6 +33,7 @@ typedef struct lt__irgrid {
   lt__buffer control, cell_scratch;
   lt_grid_header fine; /* the fine grid */
   int top_dims[3], top_count, count;
+  int shift; /* fine voxels per top cell: 2^shift per axis (0 for a uniform grid) */
   lt__irgrid_config config;
   double totals[LT_IRG_STAT_COUNT]; /* the build's counters over all launches */
 } lt__irgrid;
@@ -66,5 +69,8 @@ lt_status lt__irgrid_read(lt__irgrid *g, lt__irgrid_arrays *out);
 void lt__irgrid_arrays_free(lt__irgrid_arrays *a);
 /* The irregular grid behind a structure, or NULL (for tests). */
 lt__irgrid *lt__irgrid_of(lt_structure *structure);
+/* The uniform grid behind a structure (runtime/structure_grid.c builds it as a grid of top
+ * cells only), or NULL (for tests). */
+lt__irgrid *lt__uniform_grid_of(lt_structure *structure);
 
 #endif

@@ -16,6 +16,7 @@
 #include <cmocka.h>
 
 #include "builders/host/grid.h"
+#include "runtime/irgrid_host.h"
 #include "runtime/structure_internal.h"
 #include "tests/hard_cases.h"
 #include "tests/support.h"
@@ -869,9 +870,54 @@ static void grid_tests_few_triangles(void **state) {
   lt_hc_free(&sphere);
 }
 
+/* The structure builds its grid through the task pool (the irregular grid's COUNT task): its
+ * header, cell offsets and references equal the host build's, on both backends. */
+static void grid_built_through_the_pool_equals_the_host_build(void **state) {
+  (void)state;
+  static const char *const scenes[] = {"house", "sphere:4", "hairball:300", "cornell", "teapot-stadium"};
+  static const float densities[] = {3.0f, 0.5f, 7.0f};
+  int backends = 1 + lt_test_opencl_available();
+  for (size_t s = 0; s < sizeof scenes / sizeof scenes[0]; s++) {
+    lt_scene *scene;
+    assert_int_equal(lt_scene_load(scenes[s], &scene), LT_OK);
+    size_t n = lt_scene_triangle_count(scene);
+    for (int backend = 0; backend < backends; backend++)
+      for (size_t d = 0; d < sizeof densities / sizeof densities[0]; d++) {
+        lt__grid_config config = lt__grid_config_default();
+        config.resolution_factor = densities[d];
+        lt__grid host;
+        assert_int_equal(lt__grid_build(lt_scene_triangles(scene), n, &config, &host), LT_OK);
+        lt_context *ctx;
+        lt_context_config cc = {backend ? LT_DEVICE_OPENCL : LT_DEVICE_NATIVE, 0, 0, 0, 1};
+        assert_int_equal(lt_context_create(&cc, &ctx), LT_OK);
+        lt_structure_config sc = lt_structure_config_default(LT_STRUCTURE_GRID);
+        sc.grid_density = densities[d];
+        lt_structure *st;
+        assert_int_equal(lt_structure_create(ctx, scene, &sc, NULL, &st), LT_OK);
+        lt__irgrid *g = lt__uniform_grid_of(st);
+        assert_non_null(g);
+        assert_memory_equal(&g->fine, &host.header, sizeof host.header);
+        lt__irgrid_arrays a;
+        assert_int_equal(lt__irgrid_read(g, &a), LT_OK);
+        assert_int_equal(g->top_count, host.cell_count);
+        lt_i32 base = a.top_begin[0];
+        for (int64_t c = 0; c <= host.cell_count; c++) assert_int_equal(a.top_begin[c] - base, host.cell_begin[c]);
+        assert_memory_equal(a.refs + base, host.refs, (size_t)host.ref_count * sizeof(lt_i32));
+        fprintf(stderr, "grid %s, density %g, %s: %lld cells and %lld references equal the host build's\n", scenes[s],
+                (double)densities[d], lt_context_device_name(ctx), (long long)host.cell_count, (long long)host.ref_count);
+        lt__irgrid_arrays_free(&a);
+        lt_structure_destroy(st);
+        lt_context_destroy(ctx);
+        lt__grid_free(&host);
+      }
+    lt_scene_destroy(scene);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(grid_rejects_bad_arguments),
+      cmocka_unit_test(grid_built_through_the_pool_equals_the_host_build),
       cmocka_unit_test(grid_resolution_follows_the_thesis),
       cmocka_unit_test(grid_statistics_are_consistent),
       cmocka_unit_test(grid_single_triangle),

@@ -24,7 +24,7 @@ static int64_t product(const int dims[3]) { return (int64_t)dims[0] * dims[1] * 
 /* Cells per axis: the longest axis gets round(factor * cbrt(n)), the others the same number per
  * unit length (at least one, so that an axis of zero extent gets exactly one). Too many cells
  * shrink every axis by the same ratio, which keeps the cells near-cubical. */
-static void choose_resolution(const double extent[3], size_t n, const lt__grid_config *config, int dims[3]) {
+void lt__grid_resolution(const double extent[3], size_t n, const lt__grid_config *config, int dims[3]) {
   double longest = fmax(extent[0], fmax(extent[1], extent[2]));
   double per_unit = longest > 0.0 ? config->resolution_factor * cbrt((double)n) / longest : 0.0;
   for (int k = 0; k < 3; k++) {
@@ -108,7 +108,7 @@ lt_status lt__grid_build(const float *tris, size_t n, const lt__grid_config *con
   double extent[3];
   int dims[3];
   for (int k = 0; k < 3; k++) extent[k] = (double)hi[k] - (double)lo[k];
-  choose_resolution(extent, n, config, dims);
+  lt__grid_resolution(extent, n, config, dims);
   lt_grid_header *h = &out->header;
   h->lo = lt_make_float4(lo[0], lo[1], lo[2], 0.0f);
   h->hi = lt_make_float4(hi[0], hi[1], hi[2], 0.0f);

@@ -17,6 +17,11 @@ typedef struct lt__grid_config {
 
 lt__grid_config lt__grid_config_default(void);
 
+/* Cells per axis for n triangles in a box of these extents: the longest axis gets
+ * round(factor * cbrt(n)), the others as many per unit length (at least one); over
+ * max_cells, every axis shrinks by the same ratio. */
+void lt__grid_resolution(const double extent[3], size_t n, const lt__grid_config *config, int dims[3]);
+
 /* A grid as flat arrays (layout in device/grid_cells.h) and what it cost. */
 typedef struct lt__grid {
   lt_grid_header header;
