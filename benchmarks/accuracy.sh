@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The accuracy report (issue 5): what each accuracy knob buys (leaks on closed-mesh rays, hit
 # disagreements against a double-precision reference, SAH cost) and costs (build and trace
-# time), lazytrace on every structure, mode and backend, Embree 3 beside it. Writes
+# time), lazytrace on every structure, mode and backend, Embree 3 beside it; the grids' densities
+# (what each buys in steps and tests per ray and costs in build time and memory). Writes
 # docs/results/accuracy.md, accuracy.csv and accuracy.png.
 #   benchmarks/accuracy.sh [--runs R] [--size N] [--scene SPEC]   (defaults: 3, 512, house)
 # Takes about 5 minutes on 2 cores (most of it the double-precision brute-force reference).

@@ -208,18 +208,21 @@ static size_t count_disagreements(const lt_hit *hits) {
 
 /* ---- Settings ---- */
 
-enum { POOL, LBVH, HOST, KD, EMBREE };
+enum { POOL, LBVH, HOST, KD, GRID, IRGRID, EMBREE };
 
 typedef struct setting {
   const char *knob, *value, *builder;
   int how;            /* POOL, LBVH, HOST (bins 0: sweep), KD or EMBREE */
   int bins, leaf;
   int kd_split, kd_clip, kd_traversal; /* the kd-tree's choices (KD) */
+  float density, top_density, cell_density; /* the grids' densities (GRID, IRGRID; 0: default) */
+  int merge;                           /* the irregular grid's merging (0: default) */
   lt_build_mode build;
   int flags;          /* LT_QUERY_FLAG_FAST_TRIANGLES, LT_QUERY_FLAG_PLAIN_SLABS */
   /* measured */
   size_t leaks_vertex, leaks_other, disagreements;
   double sah_cost, references;
+  double steps, tests, memory; /* per ray, per ray, bytes (grids; deterministic) */
   double build_ms[MAX_RUNS], trace_ms[MAX_RUNS];
   int ok;
 } setting;
@@ -267,10 +270,18 @@ static lt_structure *make(setting *st, lt_context *ctx, const lt_scene *scene, d
     if (sah) *sah = bvh.sah_cost, st->references = (double)lt_scene_triangle_count(scene);
     if (lt__structure_from_bvh(ctx, scene, &bvh, &s)) return lt__bvh_free(&bvh), NULL;
   } else {
-    lt_structure_kind kind = st->how == LBVH ? LT_STRUCTURE_LBVH : st->how == KD ? LT_STRUCTURE_KDTREE : LT_STRUCTURE_BVH;
+    lt_structure_kind kind = st->how == LBVH     ? LT_STRUCTURE_LBVH
+                             : st->how == KD     ? LT_STRUCTURE_KDTREE
+                             : st->how == GRID   ? LT_STRUCTURE_GRID
+                             : st->how == IRGRID ? LT_STRUCTURE_IRGRID
+                                                 : LT_STRUCTURE_BVH;
     lt_structure_config config = lt_structure_config_default(kind);
     config.build = st->build, config.max_leaf_size = st->leaf, config.sah_bins = st->bins;
     config.kd_split = st->kd_split, config.kd_clip = st->kd_clip, config.kd_traversal = st->kd_traversal;
+    if (st->density > 0) config.grid_density = st->density;
+    if (st->top_density > 0) config.irgrid_top_density = st->top_density;
+    if (st->cell_density > 0) config.irgrid_cell_density = st->cell_density;
+    if (st->merge) config.irgrid_merge = st->merge, config.irgrid_expansion_passes = LT_IRGRID_PASSES(0);
     lt_stats *stats;
     lt_stats_create(&stats);
     if (lt_structure_create(ctx, scene, &config, stats, &s)) {
@@ -278,7 +289,7 @@ static lt_structure *make(setting *st, lt_context *ctx, const lt_scene *scene, d
       lt_stats_destroy(stats);
       return NULL;
     }
-    if (sah) *sah = st->how == LBVH || st->how == KD ? lt_stats_get(stats, "sah_cost") : pool_tree_cost(s);
+    if (sah) *sah = st->how == LBVH || st->how == KD ? lt_stats_get(stats, "sah_cost") : st->how >= GRID ? -1 : pool_tree_cost(s);
     if (sah) st->references = lt_stats_get(stats, "references");
     lt_stats_destroy(stats);
   }
@@ -349,9 +360,14 @@ static void time_run(setting *st, const lt_scene *scene, const lt_ray *rays, siz
   lt_structure *s = make(st, native, scene, &build_ms, run == 0 ? &sah : NULL);
   if (!s) return;
   if (run == 0) st->sah_cost = sah;
+  lt_stats *stats;
+  lt_stats_create(&stats);
   double start = lt_now_ms();
-  lt_structure_trace(s, rays, n, LT_QUERY_CLOSEST, hits, NULL);
+  lt_structure_trace(s, rays, n, LT_QUERY_CLOSEST, hits, stats);
   st->trace_ms[run] = lt_now_ms() - start;
+  st->steps = lt_stats_get(stats, "traversal_steps") / (double)n, st->tests = lt_stats_get(stats, "intersections") / (double)n;
+  st->memory = lt_stats_get(stats, "memory_bytes");
+  lt_stats_destroy(stats);
   st->build_ms[run] = build_ms;
   st->ok = 1;
   lt_structure_destroy(s);
@@ -456,7 +472,7 @@ int main(int argc, char **argv) {
   FILE *csv = csv_path ? fopen(csv_path, "w") : NULL;
   if (csv)
     fprintf(csv, "knob,setting,builder,leaks_vertex_rays,leaks_other_rays,fast_leaks_vertex_rays,fast_leaks_other_rays,"
-                 "disagreements,sah_cost,build_ms,trace_ms,references\n");
+                 "disagreements,sah_cost,build_ms,trace_ms,references,steps_per_ray,tests_per_ray,memory_bytes\n");
 
   fprintf(stderr, "bench_accuracy: closed-mesh rays and the double-precision reference...\n");
   make_closed_sets();
@@ -469,6 +485,10 @@ int main(int argc, char **argv) {
 #define KD_SETTING(k, v, nleaf, split, clip, traversal)                                                          \
   {.knob = k, .value = v, .builder = "pool, kd-tree", .how = KD, .bins = 32, .leaf = nleaf, .kd_split = split,          \
    .kd_clip = clip, .kd_traversal = traversal, .build = LT_BUILD_FULL}
+#define GRID_SETTING(k, v, d) {.knob = k, .value = v, .builder = "pool, uniform grid", .how = GRID, .density = d, .build = LT_BUILD_FULL}
+#define IRGRID_SETTING(k, v, top, cell, m)                                                                    \
+  {.knob = k, .value = v, .builder = "pool, irregular grid", .how = IRGRID, .top_density = top, .cell_density = cell, \
+   .merge = m, .build = LT_BUILD_FULL}
   static setting settings[] = {
       SETTING("intersection test", "watertight (default)", "pool", POOL, 32, 16, 0),
       SETTING("intersection test", "fast (Moller-Trumbore)", "pool", POOL, 32, 16, LT_QUERY_FLAG_FAST_TRIANGLES),
@@ -500,6 +520,17 @@ int main(int argc, char **argv) {
       KD_SETTING("kd-tree traversal", "stack (default)", 16, 0, 0, LT_KD_TRAVERSAL_STACK),
       KD_SETTING("kd-tree traversal", "restart (stackless)", 16, 0, 0, LT_KD_TRAVERSAL_RESTART),
       KD_SETTING("kd-tree traversal", "backtrack (stackless)", 16, 0, 0, LT_KD_TRAVERSAL_BACKTRACK),
+      GRID_SETTING("uniform grid density", "1", 1.0f),
+      GRID_SETTING("uniform grid density", "3 (default)", 3.0f),
+      GRID_SETTING("uniform grid density", "7", 7.0f),
+      IRGRID_SETTING("irregular grid lambda1 : lambda2", "0.012 : 0.24", 0.012f, 0.24f, 0),
+      IRGRID_SETTING("irregular grid lambda1 : lambda2", "0.04 : 0.8", 0.04f, 0.8f, 0),
+      IRGRID_SETTING("irregular grid lambda1 : lambda2", "0.12 : 2.4 (default)", 0.12f, 2.4f, 0),
+      IRGRID_SETTING("irregular grid lambda1 : lambda2", "0.3 : 6", 0.3f, 6.0f, 0),
+      IRGRID_SETTING("irregular grid lambda2", "0.24", 0, 0.24f, 0),
+      IRGRID_SETTING("irregular grid lambda2", "8", 0, 8.0f, 0),
+      IRGRID_SETTING("two-level grid lambda1 : lambda2", "0.012 : 0.24", 0.012f, 0.24f, LT_IRGRID_MERGE_OFF),
+      IRGRID_SETTING("two-level grid lambda1 : lambda2", "0.12 : 2.4", 0.12f, 2.4f, LT_IRGRID_MERGE_OFF),
       SETTING("peer", "Embree 3 (robust flag)", "Embree", EMBREE, 0, 0, 0),
   };
   int count = (int)(sizeof settings / sizeof settings[0]);
@@ -538,7 +569,7 @@ int main(int argc, char **argv) {
   printf("|---|---|---|---:|---:|---:|---:|---:|---:|\n");
   for (int i = 0; i < count; i++) {
     setting *st = &settings[i];
-    if (!st->ok) continue;
+    if (!st->ok || st->how == GRID || st->how == IRGRID) continue;
     double b = median(st->build_ms, runs), t = median(st->trace_ms, runs);
     char sah[32] = "-";
     if (st->how != EMBREE && st->sah_cost > 0) snprintf(sah, sizeof sah, "%.2f", st->sah_cost);
@@ -550,8 +581,22 @@ int main(int argc, char **argv) {
       fprintf(csv, "%s,%s,%s,%zu,%zu,,,%zu,%.4f,%.2f,%.2f,%.0f\n", st->knob, st->value, st->builder, st->leaks_vertex,
               st->leaks_other, st->disagreements, st->how == EMBREE ? 0.0 : st->sah_cost, b, t, st->references);
   }
-  printf("\nKnobs that do not exist yet, so are not measured: the irregular grid's densities (the structure is not "
-         "implemented yet).\n");
+  printf("\n## Grid densities: what each buys and costs\n\n");
+  printf("The grids' densities change the cells, not the answers (their leaks and disagreements are the default "
+         "numerics'). Steps: cells visited per ray; tests: triangle tests per ray; memory: the structure's bytes "
+         "(cells, references, voxel map, pool). Same rays and runs as above.\n\n");
+  printf("| knob | setting | leaks: vertex / other | disagreements | steps / ray | tests / ray | build ms | trace ms | memory MB |\n");
+  printf("|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (int i = 0; i < count; i++) {
+    setting *st = &settings[i];
+    if (!st->ok || (st->how != GRID && st->how != IRGRID)) continue;
+    double b = median(st->build_ms, runs), t = median(st->trace_ms, runs);
+    printf("| %s | %s | %zu / %zu | %zu | %.1f | %.1f | %.1f | %.1f | %.1f |\n", st->knob, st->value, st->leaks_vertex,
+           st->leaks_other, st->disagreements, st->steps, st->tests, b, t, st->memory / 1e6);
+    if (csv)
+      fprintf(csv, "%s,%s,%s,%zu,%zu,,,%zu,,%.2f,%.2f,,%.3f,%.3f,%.0f\n", st->knob, st->value, st->builder, st->leaks_vertex,
+              st->leaks_other, st->disagreements, b, t, st->steps, st->tests, st->memory);
+  }
   if (csv) fclose(csv);
   free(rays), free(hits);
   lt_scene_destroy(scene);

@@ -57,12 +57,14 @@ LT_DEVICE void lt_irg_global_candidate(const lt_irg_build *b, lt_i32 j, int a) {
   LT_GLOBAL const lt_irg_cell *d = &b->cells[n];
   for (int k = 0; k < 3; k++)
     if (k == a ? d->lo[k] != c->hi[k] : d->lo[k] != c->lo[k] || d->hi[k] != c->hi[k]) return;
-  lt_i32 both = lt_irg_union_size(b->refs + c->begin, c->end - c->begin, b->refs + d->begin, d->end - d->begin);
   lt_i32 clo[3] = {c->lo[0], c->lo[1], c->lo[2]}, chi[3] = {c->hi[0], c->hi[1], c->hi[2]};
   lt_i32 dlo[3] = {d->lo[0], d->lo[1], d->lo[2]}, dhi[3] = {d->hi[0], d->hi[1], d->hi[2]};
-  lt_i32 uhi[3] = {chi[0], chi[1], chi[2]};
+  lt_i32 uhi[3] = {chi[0], chi[1], chi[2]}, nc = c->end - c->begin, nd = d->end - d->begin;
   uhi[a] = dhi[a];
-  float apart = lt_irg_fine_cost(b, clo, chi, c->end - c->begin) + lt_irg_fine_cost(b, dlo, dhi, d->end - d->begin);
+  float apart = lt_irg_fine_cost(b, clo, chi, nc) + lt_irg_fine_cost(b, dlo, dhi, nd);
+  /* The union holds at least the larger list: when even that does not pay, skip counting it. */
+  if (!(lt_irg_fine_cost(b, clo, uhi, nc > nd ? nc : nd) < apart)) return;
+  lt_i32 both = lt_irg_union_size(b->refs + c->begin, nc, b->refs + d->begin, nd);
   if (!(lt_irg_fine_cost(b, clo, uhi, both) < apart)) return;
   LT_IRG_CAND(b, j) = n;
   LT_IRG_UNION(b, j) = both;
