@@ -216,10 +216,11 @@ static lt_structure_config config_of(const setting *s, lt_build_mode mode) {
 static void irgrid_cells_reference_exactly_what_meets_them(void **state) {
   (void)state;
   static const char *const scenes[] = {"sphere:3", "cornell", "hairball:200"};
-  for (size_t s = 0; s < sizeof scenes / sizeof scenes[0]; s++) {
+  int quick = getenv("LT_TEST_QUICK") != NULL;
+  for (size_t s = 0; s < (quick ? 2u : sizeof scenes / sizeof scenes[0]); s++) {
     lt_scene *scene;
     assert_int_equal(lt_scene_load(scenes[s], &scene), LT_OK);
-    for (size_t v = 0; v < SETTINGS; v++) {
+    for (size_t v = 0; v < (quick ? 3u : SETTINGS); v++) {
       lt_structure_config sc = config_of(&settings[v], LT_BUILD_FULL);
       built b = build_grid(scene, &sc, NULL, 0);
       int cells = check_cells(scene, &b);
@@ -316,8 +317,9 @@ static void irgrid_builds_only_what_rays_reach(void **state) {
 static void check_settings(const char *what, const lt_scene *scene, const lt_ray *rays, size_t n, const lt_hit *ref) {
   int have_opencl = lt_test_opencl_available();
   const launch launches[] = {{LT_DEVICE_NATIVE, 0, 0}, {LT_DEVICE_OPENCL, 0, 0}};
+  size_t settings_run = getenv("LT_TEST_QUICK") ? 3 : SETTINGS;
   for (size_t l = 0; l < 1 + (size_t)have_opencl; l++)
-    for (size_t v = 0; v < SETTINGS; v++)
+    for (size_t v = 0; v < settings_run; v++)
       for (int mode = LT_BUILD_FULL; mode <= LT_BUILD_REQUESTED; mode++) {
         lt_structure_config sc = config_of(&settings[v], (lt_build_mode)mode);
         char label[256];
@@ -334,7 +336,8 @@ static void check_settings(const char *what, const lt_scene *scene, const lt_ray
 static void irgrid_settings_match_reference(void **state) {
   (void)state;
   static const char *const scenes[] = {"hairball:300", "cornell", "house"};
-  size_t count = getenv("LT_TEST_QUICK") ? 2 : 3;
+  int quick = getenv("LT_TEST_QUICK") != NULL;
+  size_t count = quick ? 1 : 3;
   for (size_t s = 0; s < count; s++) {
     lt_scene *scene;
     assert_int_equal(lt_scene_load(scenes[s], &scene), LT_OK);
@@ -348,7 +351,7 @@ static void irgrid_settings_match_reference(void **state) {
   }
   lt_hc_mesh meshes[3] = {lt_hc_sphere(3, 3), lt_hc_torus(48, 24), lt_hc_cube(16, 5)};
   const char *names[3] = {"sphere:3", "torus 48x24", "cube 16x16"};
-  for (int m = 0; m < 3; m++) {
+  for (int m = 0; m < (quick ? 1 : 3); m++) {
     size_t n = 1500;
     lt_ray *rays = malloc(n * sizeof *rays);
     lt_hit *ref = malloc(n * sizeof *ref);
@@ -360,6 +363,7 @@ static void irgrid_settings_match_reference(void **state) {
     free(rays), free(ref);
     lt_hc_free(&meshes[m]);
   }
+  for (int m = quick ? 1 : 3; m < 3; m++) lt_hc_free(&meshes[m]);
 }
 
 /* A full build reports what it made. */
