@@ -144,6 +144,20 @@ LT_DEVICE void lt_irg_skip_axis(lt_grid_walk *w, const lt_ray_setup *r, int k, f
   }
 }
 
+/* A voxel to visit whose top cell is not built (entry `cell` < 0): asks the pool for it (unless
+ * the top grid is still being counted, or there is no pool) and returns 0, the ray waiting. */
+LT_DEVICE int lt_irg_wait(const lt_irg_view *v, lt_irg_ray *q, int ux, int uy, int uz, lt_i32 cell) {
+  if (cell != LT_IRG_COUNTING && v->pool) {
+    int x[3];
+    lt_irg_voxel_at(q, ux, uy, uz, x);
+    lt_i32 top = lt_irg_top_of(v->fine_dims, v->shift, x[0], x[1], x[2]);
+    lt_pool_request(v->pool, LT_IRG_UNBUILT_SLOT(cell), top + 1);
+    if (q->wait != top) lt_pool_count(v->pool, LT_POOL_STAT_STALLS, 1);
+    q->wait = top;
+  }
+  return 0;
+}
+
 /* Advances a ray; 1 when it is answered, 0 while it waits for a top cell (requested from the
  * pool). flags are the query flags. */
 LT_DEVICE int lt_irg_advance(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_trace_counters *c) {
@@ -167,42 +181,49 @@ LT_DEVICE int lt_irg_advance(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_
 
   int cap = 3 * (q->w[0].axis.n + q->w[1].axis.n + q->w[2].axis.n + 3);
   for (int step = 0; step < cap; step++) {
-    /* Every voxel still to visit must be in a built top cell; ask for the first that is not. */
-    for (int uz = q->lo[2]; uz <= q->hi[2]; uz++)
-      for (int uy = q->lo[1]; uy <= q->hi[1]; uy++)
-        for (int ux = q->lo[0]; ux <= q->hi[0]; ux++) {
-          lt_i32 cell = lt_irg_cell_at(v, q, ux, uy, uz);
-          if (cell >= 0) continue;
-          if (cell != LT_IRG_COUNTING && v->pool) {
-            int x[3];
-            lt_irg_voxel_at(q, ux, uy, uz, x);
-            lt_i32 top = lt_irg_top_of(v->fine_dims, v->shift, x[0], x[1], x[2]);
-            lt_pool_request(v->pool, LT_IRG_UNBUILT_SLOT(cell), top + 1);
-            if (q->wait != top) lt_pool_count(v->pool, LT_POOL_STAT_STALLS, 1);
-            q->wait = top;
-          }
-          return 0;
-        }
-    q->wait = -1;
-    for (int uz = q->lo[2]; uz <= q->hi[2]; uz++)
-      for (int uy = q->lo[1]; uy <= q->hi[1]; uy++)
-        for (int ux = q->lo[0]; ux <= q->hi[0]; ux++)
-          if (lt_irg_test_cell(v, q, lt_irg_cell_at(v, q, ux, uy, uz), any_hit, c)) {
-            q->state = LT_IRG_RAY_DONE;
-            return 1;
-          }
-
-    /* Skip to T, the earliest exit of the cells around the ray. A voxel of the product may lie
-     * in a top cell not built (one a box grew into, passed by the last skip): then no skip, the
-     * uniform walk's next step. */
+    /* The common case: one voxel around the ray, the one to visit. One lookup serves the
+     * wait, the test and the exit. */
+    int single = 1;
+    for (int k = 0; k < 3; k++) single &= q->lo[k] == q->hi[k] && q->w[k].first == q->lo[k] && q->w[k].last == q->hi[k];
     float T = INFINITY;
-    for (int uz = q->w[2].first; uz <= q->w[2].last; uz++)
-      for (int uy = q->w[1].first; uy <= q->w[1].last; uy++)
-        for (int ux = q->w[0].first; ux <= q->w[0].last; ux++) {
-          lt_i32 cell = lt_irg_cell_at(v, q, ux, uy, uz);
-          float e = cell >= 0 ? lt_irg_exit(q, &v->cells[cell]) : -INFINITY;
-          T = e < T ? e : T;
-        }
+    if (single) {
+      lt_i32 cell = lt_irg_cell_at(v, q, q->lo[0], q->lo[1], q->lo[2]);
+      if (cell < 0) return lt_irg_wait(v, q, q->lo[0], q->lo[1], q->lo[2], cell);
+      q->wait = -1;
+      if (lt_irg_test_cell(v, q, cell, any_hit, c)) {
+        q->state = LT_IRG_RAY_DONE;
+        return 1;
+      }
+      T = lt_irg_exit(q, &v->cells[cell]);
+    } else {
+      /* Every voxel still to visit must be in a built top cell; ask for the first that is not. */
+      for (int uz = q->lo[2]; uz <= q->hi[2]; uz++)
+        for (int uy = q->lo[1]; uy <= q->hi[1]; uy++)
+          for (int ux = q->lo[0]; ux <= q->hi[0]; ux++) {
+            lt_i32 cell = lt_irg_cell_at(v, q, ux, uy, uz);
+            if (cell < 0) return lt_irg_wait(v, q, ux, uy, uz, cell);
+          }
+      q->wait = -1;
+      for (int uz = q->lo[2]; uz <= q->hi[2]; uz++)
+        for (int uy = q->lo[1]; uy <= q->hi[1]; uy++)
+          for (int ux = q->lo[0]; ux <= q->hi[0]; ux++)
+            if (lt_irg_test_cell(v, q, lt_irg_cell_at(v, q, ux, uy, uz), any_hit, c)) {
+              q->state = LT_IRG_RAY_DONE;
+              return 1;
+            }
+
+      /* T, the earliest exit of the cells around the ray. A voxel of the product may lie in a
+       * top cell not built (one a box grew into, passed by the last skip): then no skip, the
+       * uniform walk's next step. */
+      for (int uz = q->w[2].first; uz <= q->w[2].last; uz++)
+        for (int uy = q->w[1].first; uy <= q->w[1].last; uy++)
+          for (int ux = q->w[0].first; ux <= q->w[0].last; ux++) {
+            lt_i32 cell = lt_irg_cell_at(v, q, ux, uy, uz);
+            float e = cell >= 0 ? lt_irg_exit(q, &v->cells[cell]) : -INFINITY;
+            T = e < T ? e : T;
+          }
+    }
+    /* Skip every boundary before T. */
     for (int k = 0; k < 3; k++) lt_irg_skip_axis(&q->w[k], &q->r, k, T, widen);
 
     /* The next boundary, and the uniform walk's rules for it. */
