@@ -25,7 +25,9 @@
 #endif
 
 #define MAX_RUNS 16
-#define MAX_VARIANTS 24
+
+/* The options every experiment shares: runs per variant, and N for N x N primary rays. */
+static int runs = 3, size = 512;
 
 /* The library's own resolution of the irregular grid's top level (runtime/irgrid_host.h, not
  * public): Table 5 prints the uniform grid's resolution with it. */
@@ -35,12 +37,22 @@ void lt__irgrid_top_dims(const double extent[3], size_t n, float density, int di
 
 /* The figures kept per run; the first ones are lazytrace statistics by key. */
 enum {
-  F_BUILD, F_TRACE, F_TOTAL, F_STEPS, F_TESTS, F_MEMORY, F_NODES, F_TOP, F_TOP_BUILT, F_INITIAL, F_FINAL,
+  F_BUILD,
+  F_TRACE,
+  F_TOTAL,
+  F_STEPS,
+  F_TESTS,
+  F_MEMORY,
+  F_NODES,
+  F_TOP,
+  F_TOP_BUILT,
+  F_INITIAL,
+  F_FINAL,
   F_STRUCTURE, /* cells (or nodes), references and voxel map in bytes: the structure without build scratch */
   F_COUNT
 };
-static const char *const stat_keys[F_STRUCTURE] = {"build_ms",      "trace_ms",      "total_ms",        "traversal_steps",
-                                                   "intersections", "memory_bytes",  "nodes_built",     "cells.top",
+static const char *const stat_keys[F_STRUCTURE] = {"build_ms",        "trace_ms",      "total_ms",    "traversal_steps",
+                                                   "intersections",   "memory_bytes",  "nodes_built", "cells.top",
                                                    "cells.top_built", "cells.initial", "cells.final"};
 
 /* One thing measured: a lazytrace structure (config) or Embree, and its figures run by run
@@ -54,7 +66,7 @@ typedef struct variant {
 } variant;
 
 /* The median of a figure over the runs. */
-static double med(const variant *m, int figure, int runs) { return lt_bench_median(m->v[figure], runs); }
+static double med(const variant *m, int figure) { return lt_bench_median(m->v[figure], runs); }
 
 /* A scene with its primary rays and the full SAH BVH's closest hits (the reference). */
 typedef struct workload {
@@ -64,8 +76,6 @@ typedef struct workload {
   size_t count;
   lt_hit *reference, *hits;
 } workload;
-
-static int runs = 3, size = 512;
 
 /* ---- Errors and the context ---- */
 
@@ -208,8 +218,10 @@ static void run_all(const workload *w, variant *variants, int count) {
   for (int run = 0; run < runs; run++)
     for (int i = 0; i < count; i++) {
       variant *m = &variants[i];
-      if (m->embree) m->ok = run_embree(w, m, run);
-      else run_lazytrace(w, m, run), m->ok = 1;
+      if (m->embree)
+        m->ok = run_embree(w, m, run);
+      else
+        run_lazytrace(w, m, run), m->ok = 1;
       if (m->ok)
         fprintf(stderr, "  %-34s run %d: build %9.1f ms, trace %9.1f ms, total %9.1f ms\n", m->label, run + 1,
                 m->v[F_BUILD][run], m->v[F_TRACE][run], m->v[F_TOTAL][run]);
@@ -234,20 +246,21 @@ static const char *ratio(double a, double b, int decimals) { return a < 0 || b <
 
 /* Per-ray figures, megabytes and Mrays/s of a variant's medians. */
 static double per_ray(const variant *m, int figure, const workload *w) {
-  double x = med(m, figure, runs);
+  double x = med(m, figure);
   return x < 0 ? -1 : x / (double)w->count;
 }
 static double megabytes(const variant *m, int figure) {
-  double x = med(m, figure, runs);
+  double x = med(m, figure);
   return x < 0 ? -1 : x / 1048576.0;
 }
-static double mrays(const variant *m, const workload *w) { return (double)w->count / 1e3 / med(m, F_TRACE, runs); }
+static double mrays(const variant *m, const workload *w) { return (double)w->count / 1e3 / med(m, F_TRACE); }
 
 /* ---- Table 1: the construction phases against the SAH BVH and Embree ---- */
 
 static void table1(int argc, char **argv) {
-  printf("| scene (triangles) | structure | steps/ray | tests/ray | build ms | trace ms | Mrays/s | memory MB |"
-         " structure MB | trace / BVH | memory / BVH |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  printf(
+      "| scene (triangles) | structure | steps/ray | tests/ray | build ms | trace ms | Mrays/s | memory MB |"
+      " structure MB | trace / BVH | memory / BVH |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int i = 0; i < argc; i++) {
     workload w;
     workload_load(&w, argv[i]);
@@ -261,7 +274,7 @@ static void table1(int argc, char **argv) {
     variant_set(&v[BVH], bvh_full(), 0, "SAH BVH (full)");
     variant_set(&v[EMBREE], bvh_full(), 1, "Embree");
     run_all(&w, v, COUNT);
-    double bvh_trace = med(&v[BVH], F_TRACE, runs), bvh_memory = med(&v[BVH], F_MEMORY, runs);
+    double bvh_trace = med(&v[BVH], F_TRACE), bvh_memory = med(&v[BVH], F_MEMORY);
     for (int k = 0; k < COUNT; k++) {
       const variant *m = &v[k];
       if (!m->ok) {
@@ -269,10 +282,10 @@ static void table1(int argc, char **argv) {
         continue;
       }
       printf("| %s (%zu) | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", argv[i],
-             lt_scene_triangle_count(w.scene), m->label, num(per_ray(m, F_STEPS, &w), 1), num(per_ray(m, F_TESTS, &w), 1),
-             num(med(m, F_BUILD, runs), 1), num(med(m, F_TRACE, runs), 1), num(mrays(m, &w), 2),
-             num(megabytes(m, F_MEMORY), 2), num(megabytes(m, F_STRUCTURE), 2), ratio(med(m, F_TRACE, runs), bvh_trace, 2),
-             ratio(med(m, F_MEMORY, runs), bvh_memory, 2));
+             lt_scene_triangle_count(w.scene), m->label, num(per_ray(m, F_STEPS, &w), 1),
+             num(per_ray(m, F_TESTS, &w), 1), num(med(m, F_BUILD), 1), num(med(m, F_TRACE), 1), num(mrays(m, &w), 2),
+             num(megabytes(m, F_MEMORY), 2), num(megabytes(m, F_STRUCTURE), 2), ratio(med(m, F_TRACE), bvh_trace, 2),
+             ratio(med(m, F_MEMORY), bvh_memory, 2));
     }
     workload_free(&w);
   }
@@ -283,18 +296,20 @@ static void table1(int argc, char **argv) {
 static const float lambda1s[3] = {0.012f, 0.04f, 0.12f}, lambda2s[3] = {0.24f, 0.8f, 2.4f};
 
 /* The [min, max] of a figure's medians over variants first, first + step, ... (count of them). */
-static void range_of(const variant *v, int first, int count, int step, int figure, double scale, double *lo, double *hi) {
+static void range_of(const variant *v, int first, int count, int step, int figure, double scale, double *lo,
+                     double *hi) {
   *lo = INFINITY, *hi = -INFINITY;
   for (int k = 0; k < count; k++) {
-    double x = med(&v[first + k * step], figure, runs) * scale;
+    double x = med(&v[first + k * step], figure) * scale;
     *lo = fmin(*lo, x), *hi = fmax(*hi, x);
   }
 }
 
 static void densities(int argc, char **argv) {
-  printf("| scene | lambda1 | lambda2 | irregular: build ms | memory MB | cells | steps/ray | tests/ray | trace ms |"
-         " two-level: build ms | memory MB | cells | steps/ray | tests/ray | trace ms |\n"
-         "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  printf(
+      "| scene | lambda1 | lambda2 | irregular: build ms | memory MB | cells | steps/ray | tests/ray | trace ms |"
+      " two-level: build ms | memory MB | cells | steps/ray | tests/ray | trace ms |\n"
+      "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   char summary[64][512]; /* the summary table's rows, printed after the last scene */
   int rows = 0;
   for (int i = 0; i < argc; i++) {
@@ -316,47 +331,57 @@ static void densities(int argc, char **argv) {
     for (int p = 0; p < 9; p++) {
       const variant *g = &v[2 * p], *t = &v[2 * p + 1];
       printf("| %s | %g | %g | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", argv[i],
-             (double)lambda1s[p / 3], (double)lambda2s[p % 3], num(med(g, F_BUILD, runs), 1), num(megabytes(g, F_MEMORY), 2),
-             num(med(g, F_FINAL, runs), 0), num(per_ray(g, F_STEPS, &w), 1), num(per_ray(g, F_TESTS, &w), 1),
-             num(med(g, F_TRACE, runs), 1), num(med(t, F_BUILD, runs), 1), num(megabytes(t, F_MEMORY), 2),
-             num(med(t, F_FINAL, runs), 0), num(per_ray(t, F_STEPS, &w), 1), num(per_ray(t, F_TESTS, &w), 1),
-             num(med(t, F_TRACE, runs), 1));
-      if (med(t, F_TRACE, runs) < med(&v[best], F_TRACE, runs)) best = 2 * p + 1;
+             (double)lambda1s[p / 3], (double)lambda2s[p % 3], num(med(g, F_BUILD), 1), num(megabytes(g, F_MEMORY), 2),
+             num(med(g, F_FINAL), 0), num(per_ray(g, F_STEPS, &w), 1), num(per_ray(g, F_TESTS, &w), 1),
+             num(med(g, F_TRACE), 1), num(med(t, F_BUILD), 1), num(megabytes(t, F_MEMORY), 2), num(med(t, F_FINAL), 0),
+             num(per_ray(t, F_STEPS, &w), 1), num(per_ray(t, F_TESTS, &w), 1), num(med(t, F_TRACE), 1));
+      if (med(t, F_TRACE) < med(&v[best], F_TRACE)) best = 2 * p + 1;
     }
     double build_lo, build_hi, trace_lo, trace_hi, mem_lo, mem_hi;
     range_of(v, 0, 9, 2, F_BUILD, 1, &build_lo, &build_hi);
     range_of(v, 0, 9, 2, F_TRACE, 1, &trace_lo, &trace_hi);
     range_of(v, 0, 9, 2, F_MEMORY, 1.0 / 1048576, &mem_lo, &mem_hi);
     double rate = (double)w.count / 1e3;
+    int pair = best / 2;
     if (rows < 64)
       snprintf(summary[rows++], sizeof summary[0],
-               "| %s | %zu | [%.1f, %.1f] | %.1f | %.1f | [%.2f, %.2f] | %.2f | %.2f | [%.2f, %.2f] | %.2f | %.2f | %s |",
-               argv[i], lt_scene_triangle_count(w.scene), build_lo, build_hi, med(&v[best], F_BUILD, runs),
-               med(&v[18], F_BUILD, runs), rate / trace_hi, rate / trace_lo, mrays(&v[best], &w), mrays(&v[18], &w), mem_lo,
-               mem_hi, megabytes(&v[best], F_MEMORY), megabytes(&v[18], F_MEMORY), v[best].label + strlen("two-level "));
+               "| %s | %zu | [%.1f, %.1f] | %.1f | %.1f | [%.2f, %.2f] | %.2f | %.2f | [%.2f, %.2f] | %.2f | %.2f |"
+               " %g : %g |",
+               argv[i], lt_scene_triangle_count(w.scene), build_lo, build_hi, med(&v[best], F_BUILD),
+               med(&v[18], F_BUILD), rate / trace_hi, rate / trace_lo, mrays(&v[best], &w), mrays(&v[18], &w), mem_lo,
+               mem_hi, megabytes(&v[best], F_MEMORY), megabytes(&v[18], F_MEMORY), (double)lambda1s[pair / 3],
+               (double)lambda2s[pair % 3]);
     workload_free(&w);
   }
-  printf("\nOver the nine density pairs (the paper's Table 2): the irregular grid's range, the two-level grid at its"
-         " fastest pair, the full SAH BVH.\n\n"
-         "| scene | triangles | irregular build ms | two-level build ms | BVH build ms | irregular Mrays/s |"
-         " two-level Mrays/s | BVH Mrays/s | irregular memory MB | two-level memory MB | BVH memory MB |"
-         " two-level pair |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  printf(
+      "\nOver the nine density pairs (the paper's Table 2): the irregular grid's range, the two-level grid at its"
+      " fastest pair, the full SAH BVH.\n\n"
+      "| scene | triangles | irregular build ms | two-level build ms | BVH build ms | irregular Mrays/s |"
+      " two-level Mrays/s | BVH Mrays/s | irregular memory MB | two-level memory MB | BVH memory MB |"
+      " two-level pair |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int r = 0; r < rows; r++) printf("%s\n", summary[r]);
 }
 
 /* ---- Table 5: merge and expansion on uniform grids ---- */
 
-/* The uniform grid at top density lambda1: the irregular grid whose top cells are never cut. */
+/* The uniform grid at top density lambda1: the irregular grid whose top cells are never cut.
+ * A top cell of m references is cut once lambda2 * m > 1 (lt_irg_level, builders/irgrid_task.h),
+ * so 0.001, the command line's least, still cuts top cells of over 1000 references (house has
+ * some at lambda1 0.12); 1e-6 cuts none below a million. */
 #define UNIFORM_CELL_DENSITY 1e-6f
 
-/* "AxBxC" for the top grid the library makes for this scene at lambda1. */
-static void top_resolution(const lt_scene *scene, float lambda1, char *out, size_t size) {
+/* "AxBxC" for the top grid the library makes for this scene at lambda1, or "N top cells" where
+ * that resolution does not account for the top cells the build reported. */
+static void top_resolution(const lt_scene *scene, float lambda1, double top_cells, char *out, size_t capacity) {
   float lo[3], hi[3];
   lt_scene_bounds(scene, lo, hi);
   double extent[3] = {(double)hi[0] - lo[0], (double)hi[1] - lo[1], (double)hi[2] - lo[2]};
   int dims[3];
   lt__irgrid_top_dims(extent, lt_scene_triangle_count(scene), lambda1, dims);
-  snprintf(out, size, "%dx%dx%d", dims[0], dims[1], dims[2]);
+  if ((double)dims[0] * dims[1] * dims[2] == top_cells)
+    snprintf(out, capacity, "%dx%dx%d", dims[0], dims[1], dims[2]);
+  else
+    snprintf(out, capacity, "%.0f top cells", top_cells);
 }
 
 static void uniform(int argc, char **argv) {
@@ -368,30 +393,32 @@ static void uniform(int argc, char **argv) {
                 {"+ expansion", LT_IRGRID_MERGE_OFF, 3},
                 {"+ merge", LT_IRGRID_MERGE_ON, 0},
                 {"+ merge + expansion", LT_IRGRID_MERGE_ON, 3}};
-  printf("| scene | lambda1 (top grid) | variant | steps/ray | tests/ray | trace ms | Mrays/s | trace / uniform |"
-         " memory MB | structure MB | cells |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  printf(
+      "| scene | lambda1 (top grid) | variant | steps/ray | tests/ray | trace ms | Mrays/s | trace / uniform |"
+      " memory MB | structure MB | cells |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int i = 0; i < argc; i++) {
     workload w;
     workload_load(&w, argv[i]);
     variant v[8];
     for (int l = 0; l < 2; l++)
       for (int k = 0; k < 4; k++)
-        variant_set(&v[4 * l + k], irgrid(LT_BUILD_FULL, kinds[k].merge, kinds[k].passes, lambdas[l], UNIFORM_CELL_DENSITY),
-                    0, "%g: %s", (double)lambdas[l], kinds[k].label);
+        variant_set(&v[4 * l + k],
+                    irgrid(LT_BUILD_FULL, kinds[k].merge, kinds[k].passes, lambdas[l], UNIFORM_CELL_DENSITY), 0,
+                    "%g: %s", (double)lambdas[l], kinds[k].label);
     run_all(&w, v, 8);
     for (int l = 0; l < 2; l++) {
-      char dims[64];
-      top_resolution(w.scene, lambdas[l], dims, sizeof dims);
       const variant *u = &v[4 * l];
-      if (med(u, F_INITIAL, runs) > med(u, F_TOP, runs))
+      char dims[64];
+      top_resolution(w.scene, lambdas[l], med(u, F_TOP), dims, sizeof dims);
+      if (med(u, F_INITIAL) > med(u, F_TOP))
         fprintf(stderr, "note: %s at lambda1 %g: %.0f initial cells for %.0f top cells, so some top cell was cut\n",
-                w.spec, (double)lambdas[l], med(u, F_INITIAL, runs), med(u, F_TOP, runs));
+                w.spec, (double)lambdas[l], med(u, F_INITIAL), med(u, F_TOP));
       for (int k = 0; k < 4; k++) {
         const variant *m = &v[4 * l + k];
         printf("| %s | %g (%s) | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", argv[i], (double)lambdas[l], dims,
                kinds[k].label, num(per_ray(m, F_STEPS, &w), 1), num(per_ray(m, F_TESTS, &w), 1),
-               num(med(m, F_TRACE, runs), 1), num(mrays(m, &w), 2), ratio(med(m, F_TRACE, runs), med(u, F_TRACE, runs), 2),
-               num(megabytes(m, F_MEMORY), 2), num(megabytes(m, F_STRUCTURE), 2), num(med(m, F_FINAL, runs), 0));
+               num(med(m, F_TRACE), 1), num(mrays(m, &w), 2), ratio(med(m, F_TRACE), med(u, F_TRACE), 2),
+               num(megabytes(m, F_MEMORY), 2), num(megabytes(m, F_STRUCTURE), 2), num(med(m, F_FINAL), 0));
       }
     }
     workload_free(&w);
@@ -409,33 +436,36 @@ static void ondemand_variants(variant *v) {
 }
 
 static void ondemand(int argc, char **argv) {
-  printf("| scene (triangles) | build | time to image ms | build ms | trace ms | top cells built | cells |"
-         " steps/ray | image / full |\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  printf(
+      "| scene (triangles) | build | time to image ms | build ms | trace ms | top cells built | cells |"
+      " steps/ray | image / full |\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int i = 0; i < argc; i++) {
     workload w;
     workload_load(&w, argv[i]);
     variant v[OD_COUNT];
     ondemand_variants(v);
     run_all(&w, v, OD_COUNT);
-    double full = med(&v[OD_FULL], F_TOTAL, runs);
+    double full = med(&v[OD_FULL], F_TOTAL);
     for (int k = 0; k < OD_COUNT; k++) {
       const variant *m = &v[k];
       printf("| %s (%zu) | %s | %s | %s | %s | %s of %s | %s | %s | %s |\n", argv[i], lt_scene_triangle_count(w.scene),
-             m->label, num(med(m, F_TOTAL, runs), 1), num(med(m, F_BUILD, runs), 1), num(med(m, F_TRACE, runs), 1),
-             num(med(m, F_TOP_BUILT, runs), 0), num(med(m, F_TOP, runs), 0), num(med(m, F_NODES, runs), 0),
-             num(per_ray(m, F_STEPS, &w), 1), ratio(med(m, F_TOTAL, runs), full, 2));
+             m->label, num(med(m, F_TOTAL), 1), num(med(m, F_BUILD), 1), num(med(m, F_TRACE), 1),
+             num(med(m, F_TOP_BUILT), 0), num(med(m, F_TOP), 0), num(med(m, F_NODES), 0),
+             num(per_ray(m, F_STEPS, &w), 1), ratio(med(m, F_TOTAL), full, 2));
     }
     workload_free(&w);
   }
 }
 
 static void sweep(int max, FILE *csv) {
-  printf("| houses | triangles | full: cells | image ms | requested: top cells | cells | image ms |"
-         " speculative: top cells | cells | image ms | requested / full | speculative / full |\n"
-         "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  printf(
+      "| houses | triangles | full: cells | image ms | requested: top cells | cells | image ms |"
+      " speculative: top cells | cells | image ms | requested / full | speculative / full |\n"
+      "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   if (csv)
-    fprintf(csv, "houses,triangles,full_cells,full_ms,requested_top_built,requested_cells,requested_ms,"
-                 "speculative_top_built,speculative_cells,speculative_ms,top_cells\n");
+    fprintf(csv,
+            "houses,triangles,full_cells,full_ms,requested_top_built,requested_cells,requested_ms,"
+            "speculative_top_built,speculative_cells,speculative_ms,top_cells\n");
   for (int houses = 1; houses <= max; houses++) {
     char spec[64];
     snprintf(spec, sizeof spec, "house-row:%d", houses);
@@ -446,10 +476,10 @@ static void sweep(int max, FILE *csv) {
     run_all(&w, v, OD_COUNT);
     double ms[OD_COUNT], cells[OD_COUNT], top[OD_COUNT];
     for (int k = 0; k < OD_COUNT; k++)
-      ms[k] = med(&v[k], F_TOTAL, runs), cells[k] = med(&v[k], F_NODES, runs), top[k] = med(&v[k], F_TOP_BUILT, runs);
-    double top_cells = med(&v[OD_FULL], F_TOP, runs);
-    printf("| %d | %zu | %.0f | %.1f | %.0f of %.0f | %.0f | %.1f | %.0f of %.0f | %.0f | %.1f | %.2f | %.2f |\n", houses,
-           lt_scene_triangle_count(w.scene), cells[OD_FULL], ms[OD_FULL], top[OD_REQUESTED], top_cells,
+      ms[k] = med(&v[k], F_TOTAL), cells[k] = med(&v[k], F_NODES), top[k] = med(&v[k], F_TOP_BUILT);
+    double top_cells = med(&v[OD_FULL], F_TOP);
+    printf("| %d | %zu | %.0f | %.1f | %.0f of %.0f | %.0f | %.1f | %.0f of %.0f | %.0f | %.1f | %.2f | %.2f |\n",
+           houses, lt_scene_triangle_count(w.scene), cells[OD_FULL], ms[OD_FULL], top[OD_REQUESTED], top_cells,
            cells[OD_REQUESTED], ms[OD_REQUESTED], top[OD_SPECULATIVE], top_cells, cells[OD_SPECULATIVE],
            ms[OD_SPECULATIVE], ms[OD_REQUESTED] / ms[OD_FULL], ms[OD_SPECULATIVE] / ms[OD_FULL]);
     if (csv)
@@ -463,9 +493,10 @@ static void sweep(int max, FILE *csv) {
 /* ---- Command line ---- */
 
 static int usage(void) {
-  fprintf(stderr, "usage: bench_irgrid table1|densities|uniform|ondemand [--runs R] [--size N] SCENE...\n"
-                  "       bench_irgrid sweep [--runs R] [--size N] [--max M] [--csv FILE]\n"
-                  "(R in 1..%d, default 3; N default 512; M default 16)\n",
+  fprintf(stderr,
+          "usage: bench_irgrid table1|densities|uniform|ondemand [--runs R] [--size N] SCENE...\n"
+          "       bench_irgrid sweep [--runs R] [--size N] [--max M] [--csv FILE]\n"
+          "(R in 1..%d, default 3; N default 512; M default 16)\n",
           MAX_RUNS);
   return 2;
 }
@@ -477,29 +508,35 @@ int main(int argc, char **argv) {
   const char *csv_path = NULL;
   char *scenes[64];
   for (int i = 2; i < argc; i++) {
-    if (strcmp(argv[i], "--runs") == 0 && i + 1 < argc) runs = atoi(argv[++i]);
-    else if (strcmp(argv[i], "--size") == 0 && i + 1 < argc) size = atoi(argv[++i]);
-    else if (strcmp(argv[i], "--max") == 0 && i + 1 < argc) max = atoi(argv[++i]);
-    else if (strcmp(argv[i], "--csv") == 0 && i + 1 < argc) csv_path = argv[++i];
-    else if (argv[i][0] != '-' && nscenes < 64) scenes[nscenes++] = argv[i];
-    else return fprintf(stderr, "bench_irgrid: unknown option %s\n", argv[i]), usage();
+    if (strcmp(argv[i], "--runs") == 0 && i + 1 < argc)
+      runs = atoi(argv[++i]);
+    else if (strcmp(argv[i], "--size") == 0 && i + 1 < argc)
+      size = atoi(argv[++i]);
+    else if (strcmp(argv[i], "--max") == 0 && i + 1 < argc)
+      max = atoi(argv[++i]);
+    else if (strcmp(argv[i], "--csv") == 0 && i + 1 < argc)
+      csv_path = argv[++i];
+    else if (argv[i][0] != '-' && nscenes < 64)
+      scenes[nscenes++] = argv[i];
+    else
+      return fprintf(stderr, "bench_irgrid: unknown option %s\n", argv[i]), usage();
   }
   if (runs < 1 || runs > MAX_RUNS || size < 1 || size > 8192 || max < 1) return usage();
-  const char *experiment = argv[1];
-  int is_sweep = strcmp(experiment, "sweep") == 0;
-  if (!is_sweep && nscenes == 0) return fprintf(stderr, "bench_irgrid: %s needs at least one scene\n", experiment), usage();
-  native_context();
-  fprintf(stderr, "bench_irgrid %s: %d run(s), %dx%d primary rays, %s\n", experiment, runs, size, size,
-          lt_context_device_name(native_context()));
-
+  /* The experiments taking scenes, then the sweep (which makes its own). */
+  static const char *const names[] = {"table1", "densities", "uniform", "ondemand", "sweep"};
+  static void (*const experiments[])(int, char **) = {table1, densities, uniform, ondemand};
+  int e = 0;
+  while (e < 5 && strcmp(argv[1], names[e]) != 0) e++;
+  if (e == 5) return fprintf(stderr, "bench_irgrid: unknown experiment %s\n", argv[1]), usage();
+  if (e < 4 && nscenes == 0) return fprintf(stderr, "bench_irgrid: %s needs at least one scene\n", argv[1]), usage();
   FILE *csv = NULL;
   if (csv_path && !(csv = fopen(csv_path, "w"))) return fprintf(stderr, "bench_irgrid: cannot write %s\n", csv_path), 1;
-  if (strcmp(experiment, "table1") == 0) table1(nscenes, scenes);
-  else if (strcmp(experiment, "densities") == 0) densities(nscenes, scenes);
-  else if (strcmp(experiment, "uniform") == 0) uniform(nscenes, scenes);
-  else if (strcmp(experiment, "ondemand") == 0) ondemand(nscenes, scenes);
-  else if (is_sweep) sweep(max, csv);
-  else return fprintf(stderr, "bench_irgrid: unknown experiment %s\n", experiment), usage();
+  fprintf(stderr, "bench_irgrid %s: %d run(s), %dx%d primary rays, %s\n", names[e], runs, size, size,
+          lt_context_device_name(native_context()));
+  if (e < 4)
+    experiments[e](nscenes, scenes);
+  else
+    sweep(max, csv);
   if (csv && fclose(csv) != 0) return fprintf(stderr, "bench_irgrid: cannot write %s\n", csv_path), 1;
   return 0;
 }

@@ -36,6 +36,26 @@ void lt__irgrid_top_dims(const double extent[3], size_t n, float density, int di
   }
 }
 
+/* The references of a grid with one cell per top cell: each triangle once per cell its box
+ * meets, decided as the COUNT task decides. */
+static int64_t lt__irgrid_uniform_refs(const lt_grid_header *h, const float *tris, size_t n) {
+  lt_grid_axis axes[3] = {lt_grid_axis_of(h, 0), lt_grid_axis_of(h, 1), lt_grid_axis_of(h, 2)};
+  int64_t total = 0;
+  for (size_t i = 0; i < n; i++) {
+    lt_v4 lo, hi;
+    lt_tri_box4(tris + 9 * i, &lo, &hi);
+    int64_t cells = 1;
+    for (int k = 0; k < 3; k++) {
+      int first = lt_grid_first_cell(&axes[k], lt_v4_lane(lo, k)), last = lt_grid_last_cell(&axes[k], lt_v4_lane(hi, k));
+      first = first < 0 ? 0 : first > axes[k].n - 1 ? axes[k].n - 1 : first;
+      last = last < first ? first : last > axes[k].n - 1 ? axes[k].n - 1 : last;
+      cells *= last - first + 1;
+    }
+    total += cells;
+  }
+  return total;
+}
+
 static lt_status launch(lt__irgrid *g, lt__buffer *rays, lt__buffer *hits, int count, int flags, int speculate,
                         int setup);
 static lt_status read_counters(lt__irgrid *g, lt_stats *stats);
@@ -82,10 +102,21 @@ lt_status lt__irgrid_create(lt_context *ctx, const lt_scene *scene, const lt__ir
   g->fine.size = lt_make_float4((float)(extent[0] / fine[0]), (float)(extent[1] / fine[1]), (float)(extent[2] / fine[2]), 0.0f);
   g->fine.dims = lt_make_int4(fine[0], fine[1], fine[2], fine[0] * fine[1] * fine[2]);
 
+  /* A uniform grid's references are known here, exactly: its room never needs a retry. */
+  int refs = room->refs;
+  if (config->uniform > 0) {
+    int64_t total = lt__irgrid_uniform_refs(&g->fine, lt_scene_triangles(scene), n);
+    if (total > INT32_MAX / 2) {
+      lt__irgrid_release(g);
+      return lt__fail(LT_ERROR_OUT_OF_MEMORY, "a uniform grid of %d cells would hold %lld references: too many",
+                      g->top_count, (long long)total);
+    }
+    refs = (int)total + 1;
+  }
   lt_pool_config pool = {room->pool, 0, 0, 0, 0, 0};
   status = lt__pool_create(ctx, &pool, mode, &g->pool);
   if (!status) status = lt__heap_create(ctx, &g->cell_heap, room->cells);
-  if (!status) status = lt__heap_create(ctx, &g->ref_heap, room->refs);
+  if (!status) status = lt__heap_create(ctx, &g->ref_heap, refs);
   if (!status) status = lt__heap_create(ctx, &g->map_heap, room->maps);
   if (!status) status = lt__buffer_wrap(ctx, &g->verts, lt_scene_triangles(scene), n * 9 * sizeof(float));
   if (!status) status = lt__buffer_create(ctx, &g->header, sizeof g->fine, &g->fine, 0);
@@ -95,7 +126,7 @@ lt_status lt__irgrid_create(lt_context *ctx, const lt_scene *scene, const lt__ir
   if (!status) status = lt__buffer_create(ctx, &g->top_fill, (size_t)g->top_count * 4, NULL, 0);
   if (!status) status = lt__buffer_create(ctx, &g->sub_maps, (size_t)room->maps * 4, NULL, LT_BUFFER_UNINIT);
   if (!status) status = lt__buffer_create(ctx, &g->cells, (size_t)room->cells * sizeof(lt_irg_cell), NULL, LT_BUFFER_UNINIT);
-  if (!status) status = lt__buffer_create(ctx, &g->refs, (size_t)room->refs * 4, NULL, LT_BUFFER_UNINIT);
+  if (!status) status = lt__buffer_create(ctx, &g->refs, (size_t)refs * 4, NULL, LT_BUFFER_UNINIT);
   if (!status)
     status = lt__buffer_create(ctx, &g->scratch, (size_t)ctx->work_groups * LT_IRG_SCRATCH * 4, NULL, LT_BUFFER_UNINIT);
   if (!status)

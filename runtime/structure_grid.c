@@ -31,20 +31,13 @@ static lt_status create(lt_structure *s, lt_stats *stats) {
     return lt__fail(LT_ERROR_INVALID_ARGUMENT, "the uniform grid takes at most %d triangles", INT32_MAX / 16);
   lt__irgrid_config config = {0};
   config.uniform = s->config.grid_density;
-  /* The references fit this room unless triangles span many cells; a full heap is retried. */
-  lt__irgrid_room room = {64, 1, (int)(n < (size_t)(INT32_MAX / 32) ? 4 * n + 1024 : INT32_MAX / 8), 1};
+  /* The pool holds the COUNT task; the references are counted exactly on creation. */
+  lt__irgrid_room room = {64, 1, 1, 1};
   double start = lt_now_ms(), compile = s->ctx->compile_ms;
-  lt_status status;
-  for (;;) {
-    status = lt__irgrid_create(s->ctx, s->scene, &config, LT_POOL_FULL, &room, &g->grid);
-    if (!status) {
-      g->live = 1;
-      status = lt__irgrid_launch(&g->grid, NULL, 0, 0, NULL, 0, stats);
-    }
-    if (status != LT_ERROR_CAPACITY || room.refs >= INT32_MAX / 4) break;
-    lt__irgrid_release(&g->grid);
-    g->live = 0;
-    room.refs *= 2;
+  lt_status status = lt__irgrid_create(s->ctx, s->scene, &config, LT_POOL_FULL, &room, &g->grid);
+  if (!status) {
+    g->live = 1;
+    status = lt__irgrid_launch(&g->grid, NULL, 0, 0, NULL, 0, stats);
   }
   lt__stats_add(stats, LT_STAT_BUILD_MS, lt_now_ms() - start - (s->ctx->compile_ms - compile));
   if (status) return status;

@@ -80,7 +80,7 @@ static lt_status create(lt_structure *s, lt_stats *stats) {
   lt__irgrid_top_dims(extent, n, g->config.top_density, dims);
   int top = dims[0] * dims[1] * dims[2];
   double per = fmax(1.0, g->config.cell_density / 2.4);
-  double cells = 3.0 * per * (double)n + 1024, refs = 8.0 * (double)n + 1024, maps = 16.0 * per * (double)n + 1024;
+  double cells = 3.0 * per * (double)n + 1024, refs = 8.0 * (double)n + 65536, maps = 16.0 * per * (double)n + 65536;
   g->room.pool = c->pool_capacity > 0 ? c->pool_capacity : tiny ? 4 : top + 1024;
   g->room.cells = tiny ? 4 : cells > MAX_HEAP / 2 ? MAX_HEAP / 2 : (int)cells;
   g->room.refs = tiny ? (int)n : refs > MAX_HEAP / 2 ? MAX_HEAP / 2 : (int)refs;

@@ -876,13 +876,13 @@ static void grid_built_through_the_pool_equals_the_host_build(void **state) {
   (void)state;
   static const char *const scenes[] = {"house", "sphere:4", "hairball:300", "cornell", "teapot-stadium"};
   static const float densities[] = {3.0f, 0.5f, 7.0f};
-  int backends = 1 + lt_test_opencl_available();
-  for (size_t s = 0; s < sizeof scenes / sizeof scenes[0]; s++) {
+  int backends = 1 + lt_test_opencl_available(), quick = getenv("LT_TEST_QUICK") != NULL;
+  for (size_t s = 0; s < (quick ? 3u : sizeof scenes / sizeof scenes[0]); s++) {
     lt_scene *scene;
     assert_int_equal(lt_scene_load(scenes[s], &scene), LT_OK);
     size_t n = lt_scene_triangle_count(scene);
     for (int backend = 0; backend < backends; backend++)
-      for (size_t d = 0; d < sizeof densities / sizeof densities[0]; d++) {
+      for (size_t d = 0; d < (quick ? 2u : sizeof densities / sizeof densities[0]); d++) {
         lt__grid_config config = lt__grid_config_default();
         config.resolution_factor = densities[d];
         lt__grid host;
