@@ -9,7 +9,7 @@
 #   irgrid_ondemand.md   the full irregular grid against top cells built on request and
 #                        speculatively, then house-row:1..16 (also irgrid_sweep.csv)
 #   benchmarks/irgrid.sh [--runs R] [--size N]      (defaults: 3 runs, 512x512 primary rays)
-# Takes about 25 minutes on 2 cores; most of it is hairball:10000's irregular grid builds in
+# Takes about 25 minutes on 2 cores; most of it is hairball:3000's irregular grid builds in
 # Table 1 (each several tens of seconds).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -49,7 +49,7 @@ columns() {
   echo "  full SAH BVH of the same run (x); Embree has no step or test counts and no memory figure"
   echo "- merge within top cells: LT_IRGRID_MERGE_TOP (cells never merge across top cells), 3 expansion passes"
   echo
-  $B table1 "$@" house-grid:3x3 house-row:8 hairball:10000 teapot-stadium sphere:6 cornell
+  $B table1 "$@" house-grid:3x3 house-row:8 hairball:3000 teapot-stadium sphere:6 cornell
 } >"$R"/irgrid_table1.md
 
 {
@@ -76,7 +76,7 @@ columns() {
   echo "- trace / uniform: trace time relative to the plain uniform grid at the same lambda1; cells:"
   echo "  cells of the finished grid. Built in full; the paper's macro regions are not implemented"
   echo
-  $B uniform "$@" house-grid:3x3 hairball:10000 teapot-stadium
+  $B uniform "$@" house-grid:3x3 hairball:3000 teapot-stadium
 } >"$R"/irgrid_table5.md
 
 {

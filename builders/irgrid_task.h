@@ -271,8 +271,7 @@ typedef struct lt_irg_top {
   int level, side, step; /* 2^level sub-voxels per axis, each step fine voxels wide */
   lt_i32 voxels;        /* side^3 */
   float width[3];       /* a sub-voxel's size in the scene's units */
-  LT_GLOBAL lt_i32 *smap, *box, *count, *stamp, *shared, *cand, *live, *ranges;
-  lt_i32 live_count;    /* cells in `live`, the numbers of the live cells */
+  LT_GLOBAL lt_i32 *smap, *box, *count, *stamp, *shared, *cand, *ranges;
   lt_i32 cached;        /* triangles whose packed range is in `ranges` */
 } lt_irg_top;
 
@@ -321,14 +320,13 @@ LT_DEVICE void lt_irg_box_of(const lt_irg_top *c, lt_i32 j, int lo[3], int hi[3]
   for (int k = 0; k < 3; k++) lo[k] = c->box[6 * j + k], hi[k] = c->box[6 * j + 3 + k];
 }
 
-/* One merge pass along axis a over the live cells (c->live, compacted at the end); returns the
- * pairs merged. */
+/* One merge pass along axis a; returns the pairs merged. */
 LT_DEVICE lt_i32 lt_irg_merge_pass(const lt_irg_build *b, lt_irg_top *c, int a) {
   int o1 = (a + 1) % 3, o2 = (a + 2) % 3;
   /* The candidate beyond each live cell's upper face: same extent on the other axes. */
-  for (lt_i32 l = 0; l < c->live_count; l++) {
-    lt_i32 j = c->live[l];
+  for (lt_i32 j = 0; j < c->voxels; j++) {
     c->cand[j] = -1, c->shared[j] = 0, c->stamp[j] = -1;
+    if (c->count[j] < 0) continue;
     int lo[3], hi[3];
     lt_irg_box_of(c, j, lo, hi);
     if (hi[a] >= c->side) continue;
@@ -340,12 +338,11 @@ LT_DEVICE lt_i32 lt_irg_merge_pass(const lt_irg_build *b, lt_irg_top *c, int a) 
     if (nlo[a] == hi[a] && nlo[o1] == lo[o1] && nhi[o1] == hi[o1] && nlo[o2] == lo[o2] && nhi[o2] == hi[o2])
       c->cand[j] = n;
   }
-  /* The triangles each pair shares: one sweep, each triangle counted once per cell it meets.
-   * A triangle one sub-voxel thick along a meets no two cells a pair apart: skipped. */
+  /* The triangles each pair shares: one sweep, each triangle counted once per cell it meets. */
   for (lt_i32 i = 0; i < c->m; i++) {
     int lo[3], hi[3];
     lt_irg_unpack(lt_irg_range_of(b, c, i), lo, hi);
-    if (lo[a] == hi[a]) continue;
+    if (lo[a] == hi[a]) continue; /* one sub-voxel thick along a: meets no two cells a pair apart */
     for (int z = lo[2]; z <= hi[2]; z++)
       for (int y = lo[1]; y <= hi[1]; y++)
         for (int x = lo[0]; x <= hi[0]; x++) {
@@ -361,9 +358,9 @@ LT_DEVICE lt_i32 lt_irg_merge_pass(const lt_irg_build *b, lt_irg_top *c, int a) 
         }
   }
   /* Keep the pairs whose merge lowers the cost; mark the cells something points at. */
-  for (lt_i32 l = 0; l < c->live_count; l++) c->stamp[c->live[l]] = 0;
-  for (lt_i32 l = 0; l < c->live_count; l++) {
-    lt_i32 j = c->live[l], n = c->cand[j];
+  for (lt_i32 j = 0; j < c->voxels; j++) c->stamp[j] = 0;
+  for (lt_i32 j = 0; j < c->voxels; j++) {
+    lt_i32 n = c->cand[j];
     if (n < 0) continue;
     int lo[3], hi[3], nlo[3], nhi[3];
     lt_irg_box_of(c, j, lo, hi);
@@ -378,8 +375,7 @@ LT_DEVICE lt_i32 lt_irg_merge_pass(const lt_irg_build *b, lt_irg_top *c, int a) 
   }
   /* Pairwise along each chain, from its lower end. */
   lt_i32 merged = 0;
-  for (lt_i32 l = 0; l < c->live_count; l++) {
-    lt_i32 h = c->live[l];
+  for (lt_i32 h = 0; h < c->voxels; h++) {
     if (c->cand[h] < 0 || c->stamp[h]) continue;
     for (lt_i32 j = h; j >= 0 && c->cand[j] >= 0;) {
       lt_i32 n = c->cand[j], next = c->cand[n];
@@ -395,10 +391,6 @@ LT_DEVICE lt_i32 lt_irg_merge_pass(const lt_irg_build *b, lt_irg_top *c, int a) 
       j = next;
     }
   }
-  lt_i32 kept = 0;
-  for (lt_i32 l = 0; l < c->live_count; l++)
-    if (c->count[c->live[l]] >= 0) c->live[kept++] = c->live[l];
-  c->live_count = kept;
   return merged;
 }
 
@@ -548,8 +540,7 @@ LT_DEVICE void lt_irg_build_top(const lt_irg_build *b, lt_i32 slot) {
   for (int k = 0; k < 3; k++) c.width[k] = lt_grid_axis_of(b->header, k).size * (float)c.step;
   LT_GLOBAL lt_i32 *s = b->scratch + (long)lt_group_id() * LT_IRG_SCRATCH;
   c.smap = s, c.box = s + c.voxels, c.count = s + 7 * c.voxels, c.stamp = s + 8 * c.voxels;
-  c.shared = s + 9 * c.voxels, c.cand = s + 10 * c.voxels, c.live = s + 11 * c.voxels;
-  c.ranges = s + 12 * LT_IRG_MAX_SUBVOXELS;
+  c.shared = s + 9 * c.voxels, c.cand = s + 10 * c.voxels, c.ranges = s + 12 * LT_IRG_MAX_SUBVOXELS;
   c.cached = 0;
   for (lt_i32 i = 0; i < c.m && i < LT_IRG_SCRATCH_RANGES; i++) c.ranges[i] = lt_irg_pack_range(b, &c, b->refs[c.begin + i]);
   c.cached = c.m < LT_IRG_SCRATCH_RANGES ? c.m : LT_IRG_SCRATCH_RANGES;
@@ -557,7 +548,7 @@ LT_DEVICE void lt_irg_build_top(const lt_irg_build *b, lt_i32 slot) {
   /* The initial subdivision: a cell per sub-voxel, and how many triangles meet each. */
   for (lt_i32 j = 0; j < c.voxels; j++) {
     int x = j % c.side, y = (j / c.side) % c.side, z = j / (c.side * c.side);
-    c.smap[j] = j, c.count[j] = 0, c.live[j] = j;
+    c.smap[j] = j, c.count[j] = 0;
     c.box[6 * j] = x, c.box[6 * j + 1] = y, c.box[6 * j + 2] = z;
     c.box[6 * j + 3] = x + 1, c.box[6 * j + 4] = y + 1, c.box[6 * j + 5] = z + 1;
   }
@@ -569,7 +560,6 @@ LT_DEVICE void lt_irg_build_top(const lt_irg_build *b, lt_i32 slot) {
       for (int y = lo[1]; y <= hi[1]; y++)
         for (int x = lo[0]; x <= hi[0]; x++) c.count[lt_irg_voxel(&c, x, y, z)]++, placed++;
   }
-  c.live_count = c.voxels;
   lt_irg_count(b, LT_IRG_STAT_INITIAL, (lt_u32)c.voxels);
 
   /* Merge passes round the axes until a pass leaves at least alpha of the cells it started
