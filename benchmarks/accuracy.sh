@@ -43,6 +43,10 @@ table=$(build/benchmarks/bench_accuracy "$@" --csv $R/accuracy.csv)
   echo "  clipping lower its SAH cost and references at a build-time price (they run on one work-item per cell);"
   echo "  the stackless traversals visit the same leaves as the stack (same tests), and their trace times show"
   echo "  what re-descending (restart) or climbing parent links (backtrack) costs."
+  echo "- The grid rows: the densities trade build time and memory against cells visited and triangle tests"
+  echo "  per ray. The uniform grid's density multiplies its cells by the cube; the irregular grid's merge"
+  echo "  and expansion make its trace far less sensitive to the densities than the two-level grid's (the"
+  echo "  paper's Table 2 finding; docs/results/irgrid_table2.md has the full grid of densities)."
   echo "- The pool's trace times include one launch of the persistent kernel; the host-built trees (host"
   echo "  reference, LBVH) are traced by the plain trace kernel."
 } >$R/accuracy.md
