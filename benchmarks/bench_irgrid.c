@@ -20,6 +20,7 @@
 
 #include "benchmarks/median.h"
 #include "lazytrace.h"
+#include "runtime/irgrid_host.h" /* lt__irgrid_top_dims: Table 5 prints the top grid's resolution */
 #ifdef LT_HAVE_EMBREE
 #include "benchmarks/embree_peer.h"
 #endif
@@ -29,9 +30,6 @@
 /* The options every experiment shares: runs per variant, and N for N x N primary rays. */
 static int runs = 3, size = 512;
 
-/* The library's own resolution of the irregular grid's top level (runtime/irgrid_host.h, not
- * public): Table 5 prints the uniform grid's resolution with it. */
-void lt__irgrid_top_dims(const double extent[3], size_t n, float density, int dims[3]);
 
 /* ---- What one run of one variant yields ---- */
 
