@@ -223,6 +223,12 @@ LT_DEVICE int lt_irg_advance(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_
             T = e < T ? e : T;
           }
     }
+    /* A hit before T ends the walk: every boundary left is at or after T (the uniform walk's
+     * rule, taken before the skip that would only confirm it). */
+    if (q->hit.prim >= 0 && q->hit.t < T) {
+      q->state = LT_IRG_RAY_DONE;
+      return 1;
+    }
     /* Skip every boundary before T. */
     for (int k = 0; k < 3; k++) lt_irg_skip_axis(&q->w[k], &q->r, k, T, widen);
 
