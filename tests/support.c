@@ -56,3 +56,32 @@ int lt_test_opencl_available(void) {
   lt_context_destroy(ctx);
   return 1;
 }
+
+size_t lt_test_small_pool_mismatches(lt_structure_kind kind) {
+  enum { N = 500 };
+  lt_scene *scene;
+  if (lt_scene_load("sphere:5", &scene) != LT_OK) return (size_t)-1;
+  lt_ray rays[N];
+  lt_hit hits[N], ref[N];
+  lt_test_random_rays(scene, 3, N, rays);
+  size_t bad = lt_reference_trace(scene, rays, N, LT_QUERY_CLOSEST, ref) == LT_OK ? 0 : (size_t)-1;
+  for (int mode = LT_BUILD_FULL; mode <= LT_BUILD_SPECULATIVE && bad != (size_t)-1; mode++) {
+    lt_context *ctx;
+    lt_context_config config = {LT_DEVICE_NATIVE, 2, 1, 0, 1};
+    if (lt_context_create(&config, &ctx) != LT_OK) return lt_scene_destroy(scene), (size_t)-1;
+    lt_structure_config sc = lt_structure_config_default(kind);
+    sc.build = (lt_build_mode)mode, sc.pool_capacity = 2;
+    lt_structure *s;
+    if (lt_structure_create(ctx, scene, &sc, NULL, &s) == LT_OK) {
+      bad = lt_structure_trace(s, rays, N, LT_QUERY_CLOSEST, hits, NULL) == LT_OK
+                ? bad + lt_test_count_mismatches(lt_structure_kind_name(kind), hits, ref, N)
+                : (size_t)-1;
+      lt_structure_destroy(s);
+    } else {
+      bad = (size_t)-1;
+    }
+    lt_context_destroy(ctx);
+  }
+  lt_scene_destroy(scene);
+  return bad;
+}

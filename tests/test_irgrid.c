@@ -401,26 +401,7 @@ static void irgrid_statistics_are_filled(void **state) {
 /* A pool of 2 slots fills at once; the grid retries larger and answers correctly. */
 static void irgrid_full_pool_is_retried_larger(void **state) {
   (void)state;
-  lt_scene *scene;
-  assert_int_equal(lt_scene_load("sphere:5", &scene), LT_OK);
-  lt_ray rays[500];
-  lt_hit hits[500], ref[500];
-  lt_test_random_rays(scene, 3, 500, rays);
-  assert_int_equal(lt_reference_trace(scene, rays, 500, LT_QUERY_CLOSEST, ref), LT_OK);
-  for (int mode = LT_BUILD_FULL; mode <= LT_BUILD_SPECULATIVE; mode++) {
-    lt_context *ctx;
-    lt_context_config config = {LT_DEVICE_NATIVE, 2, 1, 0, 1};
-    assert_int_equal(lt_context_create(&config, &ctx), LT_OK);
-    lt_structure_config sc = irgrid_config((lt_build_mode)mode);
-    sc.pool_capacity = 2;
-    lt_structure *g;
-    assert_int_equal(lt_structure_create(ctx, scene, &sc, NULL, &g), LT_OK);
-    assert_int_equal(lt_structure_trace(g, rays, 500, LT_QUERY_CLOSEST, hits, NULL), LT_OK);
-    assert_int_equal(lt_test_count_mismatches("irgrid small pool", hits, ref, 500), 0);
-    lt_structure_destroy(g);
-    lt_context_destroy(ctx);
-  }
-  lt_scene_destroy(scene);
+  assert_int_equal(lt_test_small_pool_mismatches(LT_STRUCTURE_IRGRID), 0);
 }
 
 /* Settings out of range are refused with a message. */
