@@ -222,8 +222,8 @@ typedef struct lt_structure_config {
   float irgrid_top_density;  /* irregular grid: top cells per triangle (lambda1); default 0.12 */
   float irgrid_cell_density; /* irregular grid: sub-voxels per reference of a top cell (lambda2); default 2.4 */
   int irgrid_merge;          /* irregular grid: LT_IRGRID_MERGE_*; default ON */
-  float irgrid_merge_alpha;  /* irregular grid: merging stops when a round of passes merges fewer
-                                than 1 - alpha of the cells; default 0.995 */
+  float irgrid_merge_alpha;  /* irregular grid: merging stops when a pass merges fewer than
+                                1 - alpha of the cells; default 0.995 */
   int irgrid_expansion_passes; /* irregular grid: LT_IRGRID_PASSES(n) for n passes; default 3 */
 } lt_structure_config;
 

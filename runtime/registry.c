@@ -95,7 +95,7 @@ static int choice_index(const char *names, const char *value) {
 }
 
 const char *lt_structure_parameters(lt_structure_kind kind) {
-  static char text[LT_STRUCTURE_COUNT][512];
+  static char text[LT_STRUCTURE_COUNT][2048];
   const lt__structure_class *c = lt__structure_class_of(kind);
   if (!c) return "";
   char *out = text[kind];

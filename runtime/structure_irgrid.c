@@ -150,7 +150,7 @@ static const lt__param params[] = {
                      "SAH merge passes: across the grid in a full build (within top cells on demand), none (the "
                      "two-level grid), or within top cells only"),
     LT__PARAM_FLOAT("--merge-alpha", irgrid_merge_alpha, 0.001, 1,
-                    "merging stops when a round merges fewer than 1 - alpha of the cells"),
+                    "merging stops when a pass merges fewer than 1 - alpha of the cells"),
     LT__PARAM_CHOICE("--expansion-passes", irgrid_expansion_passes, "0|1|2|3|4|5|6|7|8",
                      "passes that grow cells over neighbours whose triangles they hold"),
     {0, 0, 0, 0, 0, 0, 0},

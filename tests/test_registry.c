@@ -75,7 +75,16 @@ static void registry_options_parse_into_the_config(void **state) {
   assert_int_equal(lt_structure_option(&c, "--grid-density", "nan"), LT_ERROR_INVALID_ARGUMENT);
   assert_int_equal(lt_structure_option(&c, "--frobnicate", "1"), LT_ERROR_UNSUPPORTED);
   assert_int_equal(c.sah_bins, 8); /* a refused value changes nothing */
-  for (int k = 0; k < LT_STRUCTURE_COUNT; k++) assert_non_null(lt_structure_parameters((lt_structure_kind)k));
+  /* Help names every option of every structure, each with its default (none cut off). */
+  for (int k = 0; k < LT_STRUCTURE_COUNT; k++) {
+    const char *text = lt_structure_parameters((lt_structure_kind)k);
+    assert_non_null(text);
+    int options = 0, defaults = 0;
+    for (const lt__param *p = lt__structure_class_of((lt_structure_kind)k)->params; p && p->option; p++, options++)
+      assert_non_null(strstr(text, p->option));
+    for (const char *at = text; (at = strstr(at, "(default ")) != NULL; at++) defaults++;
+    assert_int_equal(defaults, options);
+  }
 }
 
 /* Every kernel an entry names is an entry point of the program (OpenCL, where there is one). */
