@@ -36,26 +36,6 @@ void lt__irgrid_top_dims(const double extent[3], size_t n, float density, int di
   }
 }
 
-/* The references of a grid with one cell per top cell: each triangle once per cell its box
- * meets, decided as the COUNT task decides. */
-static int64_t lt__irgrid_uniform_refs(const lt_grid_header *h, const float *tris, size_t n) {
-  lt_grid_axis axes[3] = {lt_grid_axis_of(h, 0), lt_grid_axis_of(h, 1), lt_grid_axis_of(h, 2)};
-  int64_t total = 0;
-  for (size_t i = 0; i < n; i++) {
-    lt_v4 lo, hi;
-    lt_tri_box4(tris + 9 * i, &lo, &hi);
-    int64_t cells = 1;
-    for (int k = 0; k < 3; k++) {
-      int first = lt_grid_first_cell(&axes[k], lt_v4_lane(lo, k)), last = lt_grid_last_cell(&axes[k], lt_v4_lane(hi, k));
-      first = first < 0 ? 0 : first > axes[k].n - 1 ? axes[k].n - 1 : first;
-      last = last < first ? first : last > axes[k].n - 1 ? axes[k].n - 1 : last;
-      cells *= last - first + 1;
-    }
-    total += cells;
-  }
-  return total;
-}
-
 static lt_status launch(lt__irgrid *g, lt__buffer *rays, lt__buffer *hits, int count, int flags, int speculate,
                         int setup);
 static lt_status read_counters(lt__irgrid *g, lt_stats *stats);
@@ -105,7 +85,7 @@ lt_status lt__irgrid_create(lt_context *ctx, const lt_scene *scene, const lt__ir
   /* A uniform grid's references are known here, exactly: its room never needs a retry. */
   int refs = room->refs;
   if (config->uniform > 0) {
-    int64_t total = lt__irgrid_uniform_refs(&g->fine, lt_scene_triangles(scene), n);
+    int64_t total = lt__grid_reference_count(&g->fine, lt_scene_triangles(scene), n, INT32_MAX / 2);
     if (total > INT32_MAX / 2) {
       lt__irgrid_release(g);
       return lt__fail(LT_ERROR_OUT_OF_MEMORY, "a uniform grid of %d cells would hold %lld references: too many",

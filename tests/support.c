@@ -85,3 +85,24 @@ size_t lt_test_small_pool_mismatches(lt_structure_kind kind) {
   lt_scene_destroy(scene);
   return bad;
 }
+
+lt_hit *lt_test_trace_with(const lt_scene *scene, const lt_test_launch *l, const lt_structure_config *sc,
+                           const lt_ray *rays, size_t n, int query, lt_stats *stats) {
+  lt_context *ctx;
+  lt_context_config config = {l->device, 0, l->work_groups, l->local_size, 1};
+  if (lt_context_create(&config, &ctx) != LT_OK) return fprintf(stderr, "context: %s\n", lt_last_error()), NULL;
+  lt_structure *s;
+  lt_hit *hits = NULL;
+  if (lt_structure_create(ctx, scene, sc, stats, &s) != LT_OK) {
+    fprintf(stderr, "create failed: %s\n", lt_last_error());
+  } else {
+    hits = malloc(n * sizeof *hits);
+    if (hits && lt_structure_trace(s, rays, n, query, hits, stats) != LT_OK) {
+      fprintf(stderr, "trace failed: %s\n", lt_last_error());
+      free(hits), hits = NULL;
+    }
+    lt_structure_destroy(s);
+  }
+  lt_context_destroy(ctx);
+  return hits;
+}

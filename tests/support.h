@@ -21,6 +21,16 @@ int lt_test_opencl_available(void);
 size_t lt_test_count_mismatches(const char *what, const lt_hit *a, const lt_hit *b, size_t n);
 /* Number of rays on which a and b disagree about being occluded. */
 size_t lt_test_count_occlusion_mismatches(const lt_hit *a, const lt_hit *b, size_t n);
+/* A context of this device and launch shape (0: the default) for lt_test_trace_with. */
+typedef struct lt_test_launch {
+  lt_device_kind device;
+  int work_groups, local_size;
+} lt_test_launch;
+/* Creates a context with launch shape l and a structure with config sc over the scene, traces
+ * the rays (query: LT_QUERY_*), destroys both and returns the malloc'ed hits; NULL (and says
+ * why on stderr) when anything fails. Statistics go to stats (may be NULL). */
+lt_hit *lt_test_trace_with(const lt_scene *scene, const lt_test_launch *l, const lt_structure_config *sc,
+                           const lt_ray *rays, size_t n, int query, lt_stats *stats);
 /* A structure of `kind` started with a pool of 2 slots, which fills at once, in every build
  * mode it has, on 500 random rays over sphere:5: the closest hits that differ from brute
  * force's after its retries, summed over the modes; (size_t)-1 when a create or trace fails. */

@@ -22,10 +22,7 @@
 static const char *const specs[] = {"house", "house-row:2", "house-grid:2x2", "hairball:300", "sphere:4", "cornell",
                                     "teapot-stadium"};
 
-typedef struct launch {
-  lt_device_kind device;
-  int work_groups, local_size;
-} launch;
+typedef lt_test_launch launch;
 
 static lt_structure_config mode_config(lt_build_mode mode) {
   lt_structure_config c = lt_structure_config_default(LT_STRUCTURE_BVH);
@@ -36,18 +33,9 @@ static lt_structure_config mode_config(lt_build_mode mode) {
 /* Builds in `mode` with one launch shape and traces; returns malloc'ed hits. */
 static lt_hit *trace_with(const lt_scene *scene, const launch *l, lt_build_mode mode, const lt_ray *rays, size_t n,
                           int query, lt_stats *stats) {
-  lt_context *ctx;
-  lt_context_config config = {l->device, 0, l->work_groups, l->local_size, 1};
-  assert_int_equal(lt_context_create(&config, &ctx), LT_OK);
   lt_structure_config sc = mode_config(mode);
-  lt_structure *bvh;
-  assert_int_equal(lt_structure_create(ctx, scene, &sc, stats, &bvh), LT_OK);
-  lt_hit *hits = malloc(n * sizeof *hits);
-  lt_status status = lt_structure_trace(bvh, rays, n, query, hits, stats);
-  if (status) fprintf(stderr, "trace failed: %s\n", lt_last_error());
-  assert_int_equal(status, LT_OK);
-  lt_structure_destroy(bvh);
-  lt_context_destroy(ctx);
+  lt_hit *hits = lt_test_trace_with(scene, l, &sc, rays, n, query, stats);
+  assert_non_null(hits);
   return hits;
 }
 

@@ -84,6 +84,16 @@ static void scatter(const lt__grid *grid, const float *tris, size_t n, int fill)
   }
 }
 
+int64_t lt__grid_reference_count(const lt_grid_header *h, const float *tris, size_t n, int64_t stop) {
+  lt_grid_axis axes[3] = {lt_grid_axis_of(h, 0), lt_grid_axis_of(h, 1), lt_grid_axis_of(h, 2)};
+  int64_t total = 0;
+  for (size_t i = 0; i < n && total <= stop; i++) {
+    int first[3], last[3];
+    total += triangle_cells(axes, tris + 9 * i, first, last);
+  }
+  return total;
+}
+
 lt_status lt__grid_build(const float *tris, size_t n, const lt__grid_config *config, lt__grid *out) {
   lt__grid_config defaults = lt__grid_config_default();
   if (!config) config = &defaults;
@@ -119,12 +129,7 @@ lt_status lt__grid_build(const float *tris, size_t n, const lt__grid_config *con
 
   /* References in all, from the triangles' cell ranges alone: they must fit 32-bit offsets,
    * which is known before a pass over the cells that could take as long as there are refs. */
-  lt_grid_axis axes[3] = {lt_grid_axis_of(h, 0), lt_grid_axis_of(h, 1), lt_grid_axis_of(h, 2)};
-  int64_t total = 0;
-  for (size_t i = 0; i < n && total <= INT32_MAX; i++) {
-    int first[3], last[3];
-    total += triangle_cells(axes, tris + 9 * i, first, last);
-  }
+  int64_t total = lt__grid_reference_count(h, tris, n, INT32_MAX);
   if (total > INT32_MAX) return lt__grid_free(out), LT_ERROR_OUT_OF_MEMORY;
 
   /* First pass: references per cell. */

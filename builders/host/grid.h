@@ -39,6 +39,11 @@ typedef struct lt__grid {
  * INT32_MAX, a non-finite coordinate or a bad config; LT_ERROR_OUT_OF_MEMORY when an
  * allocation fails or the references would not fit 32-bit offsets. On failure *out is zeroed,
  * so that lt__grid_free is always safe. */
+/* The references of a grid with this header over n triangles: each triangle once per cell its
+ * box meets, decided against the planes as every builder decides. Stops counting once past
+ * `stop` (the caller's limit). */
+int64_t lt__grid_reference_count(const lt_grid_header *h, const float *tris, size_t n, int64_t stop);
+
 lt_status lt__grid_build(const float *tris, size_t n, const lt__grid_config *config, lt__grid *out);
 void lt__grid_free(lt__grid *grid);
 
