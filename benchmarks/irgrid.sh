@@ -9,6 +9,7 @@
 #   irgrid_ondemand.md   the full irregular grid against top cells built on request and
 #                        speculatively, then house-row:1..16 (also irgrid_sweep.csv)
 #   benchmarks/irgrid.sh [--runs R] [--size N]      (defaults: 3 runs, 512x512 primary rays)
+# TABLES="1 2 5 ondemand" (the default) picks which of them to measure again.
 # Takes about 25 minutes on 2 cores; most of it is hairball:3000's irregular grid builds in
 # Table 1 (each several tens of seconds).
 set -euo pipefail
@@ -29,17 +30,20 @@ header() {
   echo "  reference of a top cell) 2.4, merge on (across the whole grid in a full build), alpha 0.995,"
   echo "  3 expansion passes; the two-level grid is the same build with merge off and no expansion"
 }
+tables=" ${TABLES:-1 2 5 ondemand} "
+want() { [[ $tables == *" $1 "* ]]; }
 # What the columns shared by several tables mean.
 columns() {
   echo "- steps/ray: cells whose triangles a ray tested (irregular grid; the walk's voxel lookups between"
   echo "  them are not counted) or nodes visited (BVH); tests/ray: ray-triangle tests"
-  echo "- memory MB: the structure's device memory as lazytrace counts it (memory_bytes: cells, references,"
-  echo "  voxel map, task pool, triangle boxes and build scratch); structure MB: cells (nodes),"
-  echo "  references and voxel map alone, as allocated from their heaps (cells and reference lists"
-  echo "  that merging replaced are not given back)"
+  echo "- memory MB: the structure's device memory as lazytrace counts it after the build (memory_bytes:"
+  echo "  cells or nodes, references, voxel map, task pool, and what the build left allocated: the BVH keeps"
+  echo "  its triangle boxes and build scratch; a full irregular grid is compacted, its top lists, boxes and scratch given back);"
+  echo "  structure MB: cells (nodes), references and voxel map alone; memory / BVH and structure / BVH:"
+  echo "  relative to the full SAH BVH of the same run"
 }
 
-{
+want 1 && {
   echo "# Irregular grid after each construction phase, against the SAH BVH and Embree (the paper's Table 1)"
   echo
   header "$@"
@@ -52,7 +56,7 @@ columns() {
   $B table1 "$@" house-grid:3x3 house-row:8 hairball:3000 teapot-stadium sphere:6 cornell
 } >"$R"/irgrid_table1.md
 
-{
+want 2 && {
   echo "# Irregular and two-level grid over their densities (the paper's Table 2)"
   echo
   header "$@"
@@ -65,7 +69,7 @@ columns() {
   $B densities "$@" house-grid:3x3 teapot-stadium
 } >"$R"/irgrid_table2.md
 
-{
+want 5 && {
   echo "# Merge and expansion on uniform grids (the paper's Table 5)"
   echo
   header "$@"
@@ -79,7 +83,7 @@ columns() {
   $B uniform "$@" house-grid:3x3 hairball:3000 teapot-stadium
 } >"$R"/irgrid_table5.md
 
-{
+want ondemand && {
   echo "# Irregular grid with top cells built on demand"
   echo
   header "$@"
@@ -101,4 +105,4 @@ columns() {
   $B sweep "$@" --csv "$R"/irgrid_sweep.csv
 } >"$R"/irgrid_ondemand.md
 
-cat "$R"/irgrid_table1.md "$R"/irgrid_table2.md "$R"/irgrid_table5.md "$R"/irgrid_ondemand.md
+for t in table1 table2 table5 ondemand; do want "${t#table}" && cat "$R/irgrid_$t.md"; done; true

@@ -234,7 +234,7 @@ double lt__irgrid_bytes(lt__irgrid *g, double *cell_bytes, double *reference_byt
   lt__heap_used(g->ctx, &g->ref_heap, &refs, &exhausted);
   lt__heap_used(g->ctx, &g->map_heap, &maps, &exhausted);
   *cell_bytes = (double)cells * sizeof(lt_irg_cell);
-  *reference_bytes = (double)refs * 4.0 + (double)(g->top_count + 1) * 4.0; /* with where the top lists begin */
+  *reference_bytes = (double)refs * 4.0 + (double)g->top_begin.bytes; /* with where the top lists begin */
   *map_bytes = (double)maps * 4.0 + (double)g->top_count * 4.0 + sizeof(lt_grid_header);
   *pool_bytes = (double)(g->pool.headers.bytes + g->pool.tasks.bytes + g->pool.empty_cache.bytes +
                          g->pool.priority_cache.bytes + g->pool.control.bytes);
@@ -256,7 +256,7 @@ lt_status lt__irgrid_read(lt__irgrid *g, lt__irgrid_arrays *out) {
   if (status) return status;
   size_t top = (size_t)g->top_count;
   out->top_map = malloc(top * 4);
-  out->top_begin = malloc((top + 1) * 4);
+  out->top_begin = calloc(top + 1, 4);
   out->sub_maps = malloc((size_t)(out->sub_count + 1) * 4);
   out->refs = malloc((size_t)(out->ref_count + 1) * 4);
   out->cells = malloc((size_t)(out->cell_count + 1) * sizeof(lt_irg_cell));
@@ -265,7 +265,7 @@ lt_status lt__irgrid_read(lt__irgrid *g, lt__irgrid_arrays *out) {
     return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory copying an irregular grid");
   }
   status = lt__buffer_read(g->ctx, &g->top_map, 0, g->top_map.bytes < top * 4 ? g->top_map.bytes : top * 4, out->top_map);
-  if (!status) status = lt__buffer_read(g->ctx, &g->top_begin, 0, (top + 1) * 4, out->top_begin);
+  if (!status && !g->compacted) status = lt__buffer_read(g->ctx, &g->top_begin, 0, (top + 1) * 4, out->top_begin);
   if (!status) status = lt__buffer_read(g->ctx, &g->sub_maps, 0, (size_t)out->sub_count * 4, out->sub_maps);
   if (!status) status = lt__buffer_read(g->ctx, &g->refs, 0, (size_t)out->ref_count * 4, out->refs);
   if (!status) status = lt__buffer_read(g->ctx, &g->cells, 0, (size_t)out->cell_count * sizeof(lt_irg_cell), out->cells);

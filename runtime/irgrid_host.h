@@ -34,6 +34,7 @@ typedef struct lt__irgrid {
   lt_grid_header fine; /* the fine grid */
   int top_dims[3], top_count, count;
   int shift; /* fine voxels per top cell: 2^shift per axis (0 for a uniform grid) */
+  int compacted; /* lt__irgrid_compact ran: the top lists and the build's scratch are gone */
   lt__irgrid_config config;
   double totals[LT_IRG_STAT_COUNT]; /* the build's counters over all launches */
 } lt__irgrid;
@@ -52,6 +53,11 @@ lt_status lt__irgrid_launch(lt__irgrid *g, const lt_ray *rays, int count, int fl
 /* Traces a batch through the plain trace kernel; every top cell must be built. */
 lt_status lt__irgrid_trace_finished(lt__irgrid *g, const lt_ray *rays, int count, int flags, lt_hit *hits,
                                     lt_stats *stats);
+/* Gives back what a finished grid no longer needs (runtime/irgrid_compact.c): cells and
+ * lists that merging replaced, the top lists, the build's scratch. Every top cell must be
+ * built; traversal finds the same cells' contents at the same voxels. On failure the grid is
+ * left as it was. */
+lt_status lt__irgrid_compact(lt__irgrid *g);
 /* Which heap the last launch ran out of, if any: 1 cells, 2 references, 3 sub-maps, 0 none. */
 int lt__irgrid_heap_full(lt__irgrid *g);
 /* Device bytes in use: cells, references (top lists and cells' lists), voxel map (top map
@@ -59,7 +65,7 @@ int lt__irgrid_heap_full(lt__irgrid *g);
 double lt__irgrid_bytes(lt__irgrid *g, double *cell_bytes, double *reference_bytes, double *map_bytes,
                         double *pool_bytes);
 /* A host copy of a grid's arrays (for tests that check cells and compare grids); free with
- * lt__irgrid_arrays_free. */
+ * lt__irgrid_arrays_free. A compacted grid has no top lists: top_begin is all zero. */
 typedef struct lt__irgrid_arrays {
   lt_i32 *top_map, *top_begin, *sub_maps, *refs;
   lt_irg_cell *cells;

@@ -213,6 +213,10 @@ static void irgrid_cells_reference_exactly_what_meets_them(void **state) {
       fprintf(stderr, "irgrid %s, %s: %d top cells, %d cells hold exactly what meets them\n", scenes[s],
               settings[v].what, b.g->top_count, cells);
       assert_true(cells >= b.g->top_count);
+      /* A full build is compacted: every cell is some voxel's, the lists lie end to end. */
+      assert_int_equal(cells, b.a.cell_count);
+      for (int c = 0, at = 0; c < b.a.cell_count; at = b.a.cells[c++].end) assert_int_equal(b.a.cells[c].begin, at);
+      assert_int_equal(b.a.cells[b.a.cell_count - 1].end, b.a.ref_count);
       built_free(&b);
     }
     lt_scene_destroy(scene);
@@ -242,11 +246,18 @@ static void irgrid_top_cells_built_on_demand_equal_the_full_build(void **state) 
       lt_i32 e = od.a.top_map[t], f = full.a.top_map[t];
       if (e < 0) continue;
       tops++;
-      assert_int_equal(LT_IRG_ENTRY_LEVEL(e), LT_IRG_ENTRY_LEVEL(f));
-      int voxels = 1 << (3 * LT_IRG_ENTRY_LEVEL(e));
-      for (int s = 0; s < voxels; s++) {
-        const lt_irg_cell *a = &od.a.cells[od.a.sub_maps[LT_IRG_ENTRY_BASE(e) + s]];
-        const lt_irg_cell *b = &full.a.cells[full.a.sub_maps[LT_IRG_ENTRY_BASE(f) + s]];
+      assert_true(f >= 0);
+      /* Sub-voxel by sub-voxel of the on-demand top cell, through the voxel maps (the full
+       * build's compaction may have coarsened its sub-map). */
+      int level = LT_IRG_ENTRY_LEVEL(e), side = 1 << level, step = 1 << (LT_IRG_MAX_LEVEL - level);
+      int top[3] = {t % full.g->top_dims[0], (t / full.g->top_dims[0]) % full.g->top_dims[1],
+                    t / (full.g->top_dims[0] * full.g->top_dims[1])};
+      for (int s = 0; s < side * side * side; s++) {
+        int x = (top[0] << LT_IRG_MAX_LEVEL) + s % side * step, y = (top[1] << LT_IRG_MAX_LEVEL) + s / side % side * step;
+        int z = (top[2] << LT_IRG_MAX_LEVEL) + s / (side * side) * step;
+        lt_int4 dims = full.g->fine.dims;
+        const lt_irg_cell *a = &od.a.cells[lt_irg_lookup(od.a.top_map, od.a.sub_maps, dims, LT_IRG_MAX_LEVEL, x, y, z)];
+        const lt_irg_cell *b = &full.a.cells[lt_irg_lookup(full.a.top_map, full.a.sub_maps, dims, LT_IRG_MAX_LEVEL, x, y, z)];
         assert_memory_equal(a->lo, b->lo, sizeof a->lo);
         assert_memory_equal(a->hi, b->hi, sizeof a->hi);
         assert_int_equal(a->end - a->begin, b->end - b->begin);

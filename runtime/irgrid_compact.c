@@ -1,0 +1,141 @@
+/* Compaction of a finished irregular grid (see irgrid_host.h): what a full build leaves behind
+ * that no ray will read is given back.
+ *
+ * The build allocates from three heaps and never frees: the top lists the COUNT task filled,
+ * the initial cells and lists that merging replaced, and their sub-map room stay where they
+ * were. Once every top cell is built nothing changes any more, so the live part is copied out:
+ * the cells some voxel maps to, renumbered in the order the voxel map first meets them (top
+ * cells x fastest, then sub-voxels: cells near in space end up near in memory), each cell's
+ * list copied after the previous one's, and the sub-maps rebased one after another. The build's
+ * scratch buffers go too. Done on the host: it runs once per full build, after the last launch,
+ * and keeps the device kernel (which PoCL's LLVM already finds hard to compile) as it is. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "runtime/error.h"
+#include "runtime/irgrid_host.h"
+
+/* The compact arrays, built on the host from a copy of the grid's. */
+typedef struct compacted {
+  lt_i32 *top_map, *sub_maps, *refs;
+  lt_irg_cell *cells;
+  int sub_count, cell_count, ref_count;
+} compacted;
+
+static void compacted_free(compacted *c) { free(c->top_map), free(c->sub_maps), free(c->refs), free(c->cells); }
+
+/* Rewrites a top cell's sub-map map[] of the given level at the coarsest level that says the
+ * same about every fine voxel: level l - 1 will do when each 2x2x2 block of sub-voxels maps to
+ * one cell (merged cells cover whole blocks often, empty space most of all). Returns the level. */
+static int coarsen(lt_i32 *map, int level) {
+  for (; level > 0; level--) {
+    int side = 1 << level, half = side / 2;
+    for (int z = 0; z < side; z++)
+      for (int y = 0; y < side; y++)
+        for (int x = 0; x < side; x++)
+          if (map[x + side * (y + side * z)] != map[(x & ~1) + side * ((y & ~1) + side * (z & ~1))]) return level;
+    /* In place: each entry is read from at or after where it is written. */
+    for (int z = 0; z < half; z++)
+      for (int y = 0; y < half; y++)
+        for (int x = 0; x < half; x++) map[x + half * (y + half * z)] = map[2 * x + side * (2 * y + side * 2 * z)];
+  }
+  return 0;
+}
+
+/* Renumbers the live cells of a (every top cell built; its sub-maps are coarsened in place)
+ * and lays out the compact arrays. */
+static lt_status compact_arrays(const lt__irgrid *g, lt__irgrid_arrays *a, compacted *c) {
+  memset(c, 0, sizeof *c);
+  lt_i32 *renumber = malloc(((size_t)a->cell_count + 1) * sizeof *renumber);
+  c->top_map = malloc((size_t)g->top_count * sizeof *c->top_map);
+  c->sub_maps = malloc(((size_t)a->sub_count + 1) * sizeof *c->sub_maps);
+  c->cells = malloc(((size_t)a->cell_count + 1) * sizeof *c->cells);
+  if (!renumber || !c->top_map || !c->sub_maps || !c->cells) {
+    free(renumber), compacted_free(c);
+    return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory compacting an irregular grid of %d cells", a->cell_count);
+  }
+  for (int i = 0; i < a->cell_count; i++) renumber[i] = -1;
+
+  /* Cells in the order the voxel map meets them; sub-maps one after another. */
+  size_t refs = 0;
+  for (int t = 0; t < g->top_count; t++) {
+    lt_i32 entry = a->top_map[t];
+    if (entry < 0) {
+      free(renumber), compacted_free(c);
+      return lt__fail(LT_ERROR_INVALID_ARGUMENT, "compacting an irregular grid whose top cell %d is not built", t);
+    }
+    int level = LT_IRG_ENTRY_LEVEL(entry);
+    lt_i32 *sub = a->sub_maps + LT_IRG_ENTRY_BASE(entry);
+    level = coarsen(sub, level);
+    c->top_map[t] = LT_IRG_ENTRY(level, c->sub_count);
+    for (int s = 0; s < 1 << (3 * level); s++) {
+      lt_i32 old = sub[s];
+      if (renumber[old] < 0) {
+        renumber[old] = c->cell_count;
+        c->cells[c->cell_count++] = a->cells[old];
+        refs += (size_t)(a->cells[old].end - a->cells[old].begin);
+      }
+      c->sub_maps[c->sub_count++] = renumber[old];
+    }
+  }
+  free(renumber);
+
+  /* Each live cell's list after the previous one's. */
+  c->refs = malloc((refs + 1) * sizeof *c->refs);
+  if (!c->refs) {
+    compacted_free(c);
+    return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory compacting %zu references", refs);
+  }
+  for (int i = 0; i < c->cell_count; i++) {
+    lt_irg_cell *cell = &c->cells[i];
+    int length = cell->end - cell->begin;
+    memcpy(c->refs + c->ref_count, a->refs + cell->begin, (size_t)length * sizeof *c->refs);
+    cell->begin = c->ref_count, cell->end = c->ref_count + length;
+    c->ref_count += length;
+  }
+  return LT_OK;
+}
+
+lt_status lt__irgrid_compact(lt__irgrid *g) {
+  lt__irgrid_arrays a;
+  lt_status status = lt__irgrid_read(g, &a);
+  if (status) return status;
+  compacted c;
+  status = compact_arrays(g, &a, &c);
+  lt__irgrid_arrays_free(&a);
+  if (status) return status;
+
+  /* New buffers first: should one fail, the grid is left whole as it was. */
+  lt__buffer fresh[4];
+  const void *data[4] = {c.top_map, c.sub_maps, c.cells, c.refs};
+  size_t bytes[4] = {(size_t)g->top_count * sizeof *c.top_map, (size_t)c.sub_count * sizeof *c.sub_maps,
+                     (size_t)c.cell_count * sizeof *c.cells, (size_t)c.ref_count * sizeof *c.refs};
+  int made = 0;
+  while (!status && made < 4) {
+    status = lt__buffer_create(g->ctx, &fresh[made], bytes[made], data[made], 0);
+    if (!status) made++;
+  }
+  if (status) {
+    while (made > 0) lt__buffer_release(&fresh[--made]);
+    compacted_free(&c);
+    return status;
+  }
+  lt__buffer *old[4] = {&g->top_map, &g->sub_maps, &g->cells, &g->refs};
+  for (int i = 0; i < 4; i++) lt__buffer_release(old[i]), *old[i] = fresh[i];
+
+  /* The heaps say what they hold now. */
+  lt__heap *heaps[3] = {&g->map_heap, &g->cell_heap, &g->ref_heap};
+  int units[3] = {c.sub_count, c.cell_count, c.ref_count};
+  compacted_free(&c);
+  for (int i = 0; i < 3 && !status; i++) {
+    heaps[i]->capacity = units[i];
+    status = lt__buffer_fill(g->ctx, &heaps[i]->top, units[i]);
+  }
+  if (status) return status;
+
+  /* What only the build read: the top lists' offsets, triangle boxes and scratch. */
+  lt__buffer *build_only[] = {&g->top_begin, &g->top_fill, &g->prim_boxes, &g->scratch, &g->cell_scratch};
+  for (size_t i = 0; i < sizeof build_only / sizeof build_only[0]; i++) lt__buffer_release(build_only[i]);
+  g->compacted = 1;
+  return LT_OK;
+}
