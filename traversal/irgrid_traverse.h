@@ -12,21 +12,27 @@
  *
  * Why skipping loses no hit. The uniform walk is exact (grid_traverse.h): the reference's hit W
  * lies in some voxel of the walk's product of per-axis ranges at or before the walk stops, and
- * the cell of every voxel references every triangle that meets the voxel. Take the product P
- * just visited and T = the least exit, over the cells of P's voxels, of their (grown) boxes. A
- * boundary crossed before T enters, on each axis k, a voxel below every such box's far face,
- * since crossings never decrease with the voxel number. So a voxel v of a product the uniform
- * walk would visit before T has, on each axis, v_k between P's lowest index (ranges only drop
- * voxels at their low end) and every box's far face; let u_k be v_k or P's highest index on that
- * axis, whichever is lower. u is in P, its cell's box holds u and reaches past v on every axis,
- * so it holds v. Every triangle that meets v then meets that box and, by the builder's
- * expansion rule, meets the cell's box before expansion: the cell references it and it has
- * been tested. A hit found before T makes the walk stop at the next boundary after T with
- * nothing between untested, as the uniform walk would.
+ * the cell of every voxel references every triangle that meets the voxel. At each step this walk
+ * tests the cells of every voxel of Q, the product of the current ranges (not only the slab the
+ * last boundary added), and takes T = the least, over the voxels u of Q and the axes k on which
+ * u_k is the last of Q's range, of where the ray crosses the far face on k of u's cell's (grown)
+ * box. Let v be a voxel of a product the uniform walk would visit before T. On every axis, v_k is
+ * at least the first of Q's range (ranges only drop voxels at their low end); let u_k be v_k or
+ * the last of Q's range, whichever is lower: u is in Q. On an axis where v_k is within the range,
+ * u_k = v_k, and u's cell's box, which holds u, holds v_k. On an axis where v_k is beyond it,
+ * u_k is the range's last, so T is at most the crossing of the box's far face on k; the plane
+ * that enters v_k was crossed before T, and crossings never decrease with the plane number, so
+ * v_k lies below that far face (and above u_k, within the box). So u's cell's box holds v.
+ * Every triangle that meets v then meets that box and, by the builder's expansion rule, meets
+ * the cell's box before expansion: the cell references it, and it has been tested. A hit found
+ * before T makes the walk stop at the next boundary after T with nothing between untested, as
+ * the uniform walk would. Voxels of Q short of the range's last on an axis do not bound T on
+ * it: just after a boundary the voxel left behind (kept in range by the widening) would
+ * otherwise hold T at the boundary and the jump would gain nothing.
  *
- * The stopping rule and the ranges are the uniform walk's; the cells of a product are tested
- * once each (a few recent ones are remembered, so a cell the walk meets again is not retested:
- * retesting would change nothing but the counts). */
+ * The stopping rule and the ranges are the uniform walk's; the cells of Q are tested once each
+ * (a few recent ones are remembered, so a cell the walk meets again is not retested: retesting
+ * would change nothing but the counts). */
 #ifndef LT_IRGRID_TRAVERSE_H
 #define LT_IRGRID_TRAVERSE_H
 
@@ -55,7 +61,6 @@ typedef struct lt_irg_ray {
   lt_ray_setup r;
   lt_hit_record hit;
   lt_grid_walk w[3];
-  int lo[3], hi[3]; /* the voxels (travel indices) still to visit */
   float t_far;      /* the grid's widened exit */
   lt_i32 state;
   lt_i32 recent[LT_IRG_RECENT];
@@ -89,12 +94,13 @@ LT_DEVICE lt_i32 lt_irg_cell_at(const lt_irg_view *v, const lt_irg_ray *q, int u
   return lt_irg_lookup(v->top_map, v->sub_maps, v->fine_dims, v->shift, x[0], x[1], x[2]);
 }
 
-/* Where the ray leaves a cell's box: the least crossing of its far faces. */
-LT_DEVICE float lt_irg_exit(const lt_irg_ray *q, LT_GLOBAL const lt_irg_cell *cell) {
+/* Where the ray leaves a cell's box through the far faces of the axes in mask (bit k for axis
+ * k): the least of their crossings. */
+LT_DEVICE float lt_irg_exit(const lt_irg_ray *q, LT_GLOBAL const lt_irg_cell *cell, int mask) {
   float t = INFINITY;
   for (int k = 0; k < 3; k++) {
     const lt_grid_walk *w = &q->w[k];
-    if (w->sign == 0) continue;
+    if (w->sign == 0 || !((mask >> k) & 1)) continue;
     float c = lt_grid_crossing(w, w->sign > 0 ? cell->hi[k] : w->axis.n - cell->lo[k]);
     t = c < t ? c : t;
   }
@@ -172,57 +178,31 @@ LT_DEVICE int lt_irg_advance(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_
     float t_start = t_near > q->r.tmin ? t_near : q->r.tmin;
     if (!(t_start <= t_far && t_start <= q->r.tmax)) return 1;
     q->t_far = t_far;
-    for (int k = 0; k < 3; k++) {
-      lt_grid_walk_start(&q->w[k], &q->r, v->header, k, t_start, widen);
-      q->lo[k] = q->w[k].first, q->hi[k] = q->w[k].last;
-    }
+    for (int k = 0; k < 3; k++) lt_grid_walk_start(&q->w[k], &q->r, v->header, k, t_start, widen);
     q->state = LT_IRG_RAY_VISIT;
   }
 
   int cap = 3 * (q->w[0].axis.n + q->w[1].axis.n + q->w[2].axis.n + 3);
   for (int step = 0; step < cap; step++) {
-    /* The common case: one voxel around the ray, the one to visit. One lookup serves the
-     * wait, the test and the exit. */
-    int single = 1;
-    for (int k = 0; k < 3; k++) single &= q->lo[k] == q->hi[k] && q->w[k].first == q->lo[k] && q->w[k].last == q->hi[k];
+    /* Test the cells of every voxel of the ranges' product (one tested lately is not tested
+     * again), and find T, the earliest exit of their boxes, each through the far faces of the
+     * axes on which its voxel is the last of the range (the header says why that is enough).
+     * A voxel in a top cell not built: ask the pool for it and wait; what was tested stays. */
     float T = INFINITY;
-    if (single) {
-      lt_i32 cell = lt_irg_cell_at(v, q, q->lo[0], q->lo[1], q->lo[2]);
-      if (cell < 0) return lt_irg_wait(v, q, q->lo[0], q->lo[1], q->lo[2], cell);
-      q->wait = -1;
-      if (lt_irg_test_cell(v, q, cell, any_hit, c)) {
-        q->state = LT_IRG_RAY_DONE;
-        return 1;
-      }
-      T = lt_irg_exit(q, &v->cells[cell]);
-    } else {
-      /* Every voxel still to visit must be in a built top cell; ask for the first that is not. */
-      for (int uz = q->lo[2]; uz <= q->hi[2]; uz++)
-        for (int uy = q->lo[1]; uy <= q->hi[1]; uy++)
-          for (int ux = q->lo[0]; ux <= q->hi[0]; ux++) {
-            lt_i32 cell = lt_irg_cell_at(v, q, ux, uy, uz);
-            if (cell < 0) return lt_irg_wait(v, q, ux, uy, uz, cell);
+    for (int uz = q->w[2].first; uz <= q->w[2].last; uz++)
+      for (int uy = q->w[1].first; uy <= q->w[1].last; uy++)
+        for (int ux = q->w[0].first; ux <= q->w[0].last; ux++) {
+          lt_i32 cell = lt_irg_cell_at(v, q, ux, uy, uz);
+          if (cell < 0) return lt_irg_wait(v, q, ux, uy, uz, cell);
+          q->wait = -1;
+          if (lt_irg_test_cell(v, q, cell, any_hit, c)) {
+            q->state = LT_IRG_RAY_DONE;
+            return 1;
           }
-      q->wait = -1;
-      for (int uz = q->lo[2]; uz <= q->hi[2]; uz++)
-        for (int uy = q->lo[1]; uy <= q->hi[1]; uy++)
-          for (int ux = q->lo[0]; ux <= q->hi[0]; ux++)
-            if (lt_irg_test_cell(v, q, lt_irg_cell_at(v, q, ux, uy, uz), any_hit, c)) {
-              q->state = LT_IRG_RAY_DONE;
-              return 1;
-            }
-
-      /* T, the earliest exit of the cells around the ray. A voxel of the product may lie in a
-       * top cell not built (one a box grew into, passed by the last skip): then no skip, the
-       * uniform walk's next step. */
-      for (int uz = q->w[2].first; uz <= q->w[2].last; uz++)
-        for (int uy = q->w[1].first; uy <= q->w[1].last; uy++)
-          for (int ux = q->w[0].first; ux <= q->w[0].last; ux++) {
-            lt_i32 cell = lt_irg_cell_at(v, q, ux, uy, uz);
-            float e = cell >= 0 ? lt_irg_exit(q, &v->cells[cell]) : -INFINITY;
-            T = e < T ? e : T;
-          }
-    }
+          int mask = (ux == q->w[0].last) | (uy == q->w[1].last) << 1 | (uz == q->w[2].last) << 2;
+          float e = lt_irg_exit(q, &v->cells[cell], mask);
+          T = e < T ? e : T;
+        }
     /* A hit before T ends the walk: every boundary left is at or after T (the uniform walk's
      * rule, taken before the skip that would only confirm it). */
     if (q->hit.prim >= 0 && q->hit.t < T) {
@@ -252,9 +232,7 @@ LT_DEVICE int lt_irg_advance(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_
         w->first++;
         w->first_exit = lt_grid_widen(lt_grid_crossing(w, w->first + 1), widen);
       }
-      q->lo[k] = w->first, q->hi[k] = w->last;
     }
-    q->lo[a] = q->hi[a];
   }
   /* More boundaries than the grid has planes: impossible, each enters a new voxel. */
   q->state = LT_IRG_RAY_DONE;
