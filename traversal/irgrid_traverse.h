@@ -40,7 +40,7 @@
 #include "device/pool.h"
 #include "traversal/grid_traverse.h"
 
-/* Cells a ray remembers having tested. */
+/* Cells a ray remembers having tested (a power of two). */
 #define LT_IRG_RECENT 4
 
 /* What traversal reads. */
@@ -112,7 +112,7 @@ LT_DEVICE int lt_irg_test_cell(const lt_irg_view *v, lt_irg_ray *q, lt_i32 cell,
   for (int i = 0; i < LT_IRG_RECENT; i++)
     if (q->recent[i] == cell) return 0;
   q->recent[q->recent_next] = cell;
-  q->recent_next = (q->recent_next + 1) % LT_IRG_RECENT;
+  q->recent_next = (q->recent_next + 1) & (LT_IRG_RECENT - 1);
   c->traversal_steps++;
   LT_GLOBAL const lt_irg_cell *p = &v->cells[cell];
   for (lt_i32 i = p->begin; i < p->end; i++) {
@@ -126,10 +126,12 @@ LT_DEVICE int lt_irg_test_cell(const lt_irg_view *v, lt_irg_ray *q, lt_i32 cell,
 }
 
 /* Moves axis k's range to where the walk is just before T: the last voxel entered before T,
- * and back to the first whose widened exit is not before T. */
+ * and back to the first whose widened exit is not before T. Each crossing is computed once:
+ * c1 is where voxel u + 1 is entered, c0 where u is, exit where f is left. */
 LT_DEVICE void lt_irg_skip_axis(lt_grid_walk *w, const lt_ray_setup *r, int k, float T, int widen) {
   if (w->sign == 0) return;
   int n = w->axis.n, u = w->last;
+  float c0;
   if (u + 1 < n && w->next_entry < T) {
     float x = r->org[k] + T * r->dir[k];
     if (x == x && x > -INFINITY && x < INFINITY) {
@@ -137,16 +139,33 @@ LT_DEVICE void lt_irg_skip_axis(lt_grid_walk *w, const lt_ray_setup *r, int k, f
       g = w->sign > 0 ? g : n - 1 - g;
       u = g > u ? g : u;
     }
-    while (u + 1 < n && lt_grid_crossing(w, u + 1) < T) u++;
-    while (u > w->last && lt_grid_crossing(w, u) >= T) u--;
+    float c1 = u + 1 < n ? lt_grid_crossing(w, u + 1) : INFINITY;
+    while (c1 < T) {
+      u++;
+      c1 = u + 1 < n ? lt_grid_crossing(w, u + 1) : INFINITY;
+    }
+    c0 = lt_grid_crossing(w, u);
+    while (u > w->last && c0 >= T) {
+      u--;
+      c1 = c0;
+      c0 = lt_grid_crossing(w, u);
+    }
     w->last = u;
-    if (u + 1 < n) w->next_entry = lt_grid_crossing(w, u + 1);
+    if (u + 1 < n) w->next_entry = c1;
+  } else {
+    if (u == w->first) return;
+    c0 = lt_grid_crossing(w, u);
   }
   int f = w->last;
-  while (f > w->first && lt_grid_widen(lt_grid_crossing(w, f), widen) >= T) f--;
+  float exit = f + 1 < n ? w->next_entry : lt_grid_crossing(w, f + 1);
+  while (f > w->first && lt_grid_widen(c0, widen) >= T) {
+    f--;
+    exit = c0;
+    c0 = lt_grid_crossing(w, f);
+  }
   if (f > w->first) {
     w->first = f;
-    w->first_exit = lt_grid_widen(lt_grid_crossing(w, f + 1), widen);
+    w->first_exit = lt_grid_widen(exit, widen);
   }
 }
 
