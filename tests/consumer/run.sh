@@ -55,5 +55,5 @@ cmake --build "$examples/build" >"$prefix/example-build.log" || { cat "$prefix/e
 "$examples/build/example"
 (cd "$examples" && LD_LIBRARY_PATH="$libdir" bash build.sh && LD_LIBRARY_PATH="$libdir" ./example)
 # The installed Python module finds the installed library by itself.
-(cd "$examples" && PYTHONPATH="$prefix/usr/lib/python3/dist-packages" "$python" example.py)
+(cd "$examples" && env -u LAZYTRACE_LIBRARY PYTHONPATH="$prefix/usr/lib/python3/dist-packages" "$python" example.py)
 echo "consumer: all passed"
