@@ -3,7 +3,11 @@ fully built BVH by lt_structure_trace in C (bench_overhead) and by Structure.int
 Python, with float32 and float64 input, for batches of 10, 10k and 1M rays. The machine is
 shared and noisy, so C and Python take turns: ROUNDS rounds, each timing C's calls and then
 Python's; a round's figure is the median of its calls, and the table gives the median over
-rounds, and the median of the rounds' paired differences (the overhead). Prints markdown.
+rounds, and the median of the rounds' paired differences (the overhead). Because separate
+processes differ by more than the overhead on small batches, each round also times, in the
+same process, lt_structure_trace called through ctypes on records packed beforehand: what
+Structure.intersect adds to it is the module's own work (checking, converting and packing the
+arrays, unpacking the hits). Prints markdown.
     python_overhead.py BUILD_DIR SCENE ROUNDS DEVICE..."""
 import statistics
 import subprocess
@@ -54,15 +58,19 @@ def main():
           f" {rounds} rounds, C then Python in each; calls per round: "
           + ", ".join(f"{runs} of {n:,} rays" for n, runs in SIZES.items())
           + ". Medians over rounds; the overhead is the median of the rounds' (Python float32 - C).\n")
-    print("| device | rays | C API ms | Python ms (float32 in) | Python ms (float64 in) | overhead per call | Python / C |")
-    print("|---|---:|---:|---:|---:|---:|---:|")
+    print("| device | rays | C API ms | Python ms (float32 in) | Python ms (float64 in) | Python - C | Python / C |"
+          " module's own work |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|")
     with tempfile.NamedTemporaryFile(suffix=".rays") as ray_file:
         rays.tofile(ray_file.name)
         for device in devices:
             structure = lazytrace.Structure(scene, kind="bvh", build="full",
                                             context=lazytrace.Context(device, quiet=True))
             structure.intersect(rays["org"], rays["dir"])  # warm-up, as the C program does
-            c, py32, py64 = ({n: [] for n in SIZES} for _ in range(3))
+            c, py32, py64, raw = ({n: [] for n in SIZES} for _ in range(4))
+            records = {n: np.ascontiguousarray(rays[:n]) for n in SIZES}
+            hits = np.empty(len(rays), lazytrace.HIT_DTYPE)
+            trace = lazytrace._lib.lt_structure_trace
             for _ in range(rounds):
                 for n, ms in c_round(build, spec, ray_file.name, device).items():
                     c[n].append(ms)
@@ -71,12 +79,15 @@ def main():
                     o64, d64 = o32.astype(np.float64), d32.astype(np.float64)
                     py32[n].append(median_ms(lambda: structure.intersect(o32, d32), runs))
                     py64[n].append(median_ms(lambda: structure.intersect(o64, d64), runs))
+                    raw[n].append(median_ms(lambda: trace(structure._handle, records[n].ctypes.data, n, 0,
+                                                          hits.ctypes.data, None), runs))
             for n in SIZES:
                 med = statistics.median
                 overhead = med(p - q for p, q in zip(py32[n], c[n]))
                 ratio = med(p / q for p, q in zip(py32[n], c[n]))
+                own = med(p - q for p, q in zip(py32[n], raw[n]))
                 print(f"| {device} | {n:,} | {med(c[n]):.3f} | {med(py32[n]):.3f} | {med(py64[n]):.3f} |"
-                      f" {overhead * 1e3:.0f} us | {ratio:.2f}x |")
+                      f" {overhead * 1e3:.0f} us | {ratio:.2f}x | {own * 1e3:.0f} us |")
 
 
 if __name__ == "__main__":
