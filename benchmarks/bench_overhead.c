@@ -41,7 +41,8 @@ int main(int argc, char **argv) {
     int runs = *colon == ':' ? atoi(colon + 1) : 0;
     if (n == 0 || n > count || runs < 1 || runs > MAX_RUNS)
       return fprintf(stderr, "bench_overhead: '%s': expected N:RUNS, N up to %zu, RUNS up to %d\n", argv[a], count,
-                     MAX_RUNS), 2;
+                     MAX_RUNS),
+             2;
     for (int r = 0; r < runs; r++) {
       double start = lt_now_ms();
       if (lt_structure_trace(bvh, rays, n, LT_QUERY_CLOSEST, hits, NULL)) return fail("trace");

@@ -4,7 +4,6 @@
  * distance, bit for bit). Exit status 0 when everything agrees.
  *   consumer [SCENE]    (default sphere:2) */
 #include <lazytrace.h>
-
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -52,7 +51,8 @@ int main(int argc, char **argv) {
   int bad = !rays || !expected || !hits;
   lt_camera camera = lt_scene_camera(scene);
   if (!bad) lt_camera_primary_rays(&camera, SIDE, SIDE, rays);
-  if (!bad && (status = lt_reference_trace(scene, rays, n, LT_QUERY_CLOSEST, expected))) bad = fail("reference", status);
+  if (!bad && (status = lt_reference_trace(scene, rays, n, LT_QUERY_CLOSEST, expected)))
+    bad = fail("reference", status);
 
   /* Every structure and build mode the library implements. */
   lt_structure_kind kinds[64];
