@@ -297,6 +297,10 @@ def test_scene_files_and_options(tmp_path):
     mesh.write_text("v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n")
     scene = lazytrace.Scene.load(str(mesh))
     assert scene.triangle_count == 2
+    description = tmp_path / "two.json"
+    description.write_text('{"meshes": [{"file": "quad.obj"}, {"generator": "sphere:1"}],'
+                           ' "instances": [{"mesh": 0}, {"mesh": 1, "translate": [0, 0, 5]}]}')
+    assert lazytrace.Scene.load(str(description)).triangle_count == 2 + 80
     for kind, options in [("bvh", {"leaf_size": 1, "bins": 4}), ("grid", {"grid_density": 2}),
                           ("kdtree", {"traversal": "backtrack", "build": "full"}),
                           ("irgrid", {"merge": "off", "intersect": "fast"})]:
