@@ -147,7 +147,8 @@ class Scene:
         faces = faces.astype(np.int64, copy=False)
         if faces.size and (faces.min() < 0 or faces.max() >= len(vertices)):
             raise ValueError(f"faces: indices must lie in [0, {len(vertices)}), found {faces.min()} to {faces.max()}")
-        triangles = np.ascontiguousarray(vertices.astype(np.float32)[faces].reshape(-1, 9))
+        with np.errstate(over="ignore"):  # coordinates beyond float32 become inf: such faces are left out
+            triangles = np.ascontiguousarray(vertices.astype(np.float32)[faces].reshape(-1, 9))
         finite = np.isfinite(triangles).all(axis=1)
         face_index = None if finite.all() else np.flatnonzero(finite)
         handle = ctypes.c_void_p()
