@@ -15,6 +15,15 @@
 extern "C" {
 #endif
 
+/* The version of this header; lt_version() gives the library's, which may differ when a
+ * program runs against another build of the shared library. The build reads these lines. */
+#define LT_VERSION_MAJOR 0
+#define LT_VERSION_MINOR 1
+#define LT_VERSION_PATCH 0
+#define LT_VERSION (LT_VERSION_MAJOR * 10000 + LT_VERSION_MINOR * 100 + LT_VERSION_PATCH)
+/* The library's version as "MAJOR.MINOR.PATCH". */
+const char *lt_version(void);
+
 /* Status codes: one list generates the enum, lt_status_str() and lt_status_name(). */
 #define LT_STATUS_LIST(X)                                                                   \
   X(LT_OK, "success")                                                                       \
@@ -170,6 +179,12 @@ void lt_stats_copy(lt_stats *dst, const lt_stats *src);
 /* A counter or time by its contract key ("trace_ms", "nodes_built", "pool.stalls", ...);
  * returns -1 for a key that does not apply (written as null). */
 double lt_stats_get(const lt_stats *stats, const char *key);
+/* The numeric keys lt_stats_get knows, in the order the JSON object lists them: the i-th, or
+ * NULL past the last; dotted keys ("pool.tasks") are the nested objects' members. */
+const char *lt_stats_key(size_t i);
+/* The text values by key: "structure", "build", "device" or "intersect"; "" where unset,
+ * NULL for any other key. */
+const char *lt_stats_text(const lt_stats *stats, const char *key);
 /* Sets a value the caller measured itself (load_ms, for example). */
 lt_status lt_stats_set(lt_stats *stats, const char *key, double value);
 /* Writes one JSON object with every key of the contract. */

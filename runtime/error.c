@@ -30,6 +30,11 @@ const char *lt_status_name(lt_status status) {
   }
 }
 
+#define LT_STRINGIFY(x) #x
+#define LT_VERSION_TEXT(a, b, c) LT_STRINGIFY(a) "." LT_STRINGIFY(b) "." LT_STRINGIFY(c)
+
+const char *lt_version(void) { return LT_VERSION_TEXT(LT_VERSION_MAJOR, LT_VERSION_MINOR, LT_VERSION_PATCH); }
+
 const char *lt_last_error(void) { return last_error; }
 
 void lt__clear_error(void) { last_error[0] = '\0'; }

@@ -43,6 +43,17 @@ double lt_stats_get(const lt_stats *stats, const char *key) {
   return i < 0 ? -1.0 : stats->value[i];
 }
 
+const char *lt_stats_key(size_t i) { return i < LT_STAT_COUNT ? key_names[i] : NULL; }
+
+const char *lt_stats_text(const lt_stats *stats, const char *key) {
+  if (!stats || !key) return NULL;
+  if (strcmp(key, "structure") == 0) return stats->structure;
+  if (strcmp(key, "build") == 0) return stats->build;
+  if (strcmp(key, "device") == 0) return stats->device;
+  if (strcmp(key, "intersect") == 0) return stats->intersect;
+  return NULL;
+}
+
 lt_status lt_stats_set(lt_stats *stats, const char *key, double value) {
   int i = stats && key ? key_index(key) : -1;
   if (i < 0) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "no statistic named '%s'", key ? key : "(null)");
