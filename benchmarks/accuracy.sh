@@ -17,7 +17,7 @@ table=$(build/benchmarks/bench_accuracy "$@" --csv $R/accuracy.csv)
   echo "- command: \`benchmarks/accuracy.sh $*\` (timings on the native backend, $(nproc) work-groups; Embree with as many threads)"
   echo "- commit: $(lt_commit)"
   echo "- machine: $(lt_machine)"
-  echo "- OpenCL: $(clinfo -l 2>/dev/null | sed -n 's/.*Device #0: //p' | head -1); Embree $(dpkg-query -W -f='${Version}' libembree-dev 2>/dev/null || echo 'not installed') (robust flag); date $(date -u +%Y-%m-%d)"
+  echo "- OpenCL: $(lt_opencl_device); Embree $(dpkg-query -W -f='${Version}' libembree-dev 2>/dev/null || echo 'not installed') (robust flag); date $(date -u +%Y-%m-%d)"
   echo
   echo "![SAH cost and time per bin count and leaf size; leaks per method](accuracy.png)"
   echo

@@ -18,3 +18,15 @@ lt_machine() {
 lt_commit() {
   echo "$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- . ':!docs' || echo ' (with uncommitted changes)')"
 }
+
+# The OpenCL device the runs see (the first one clinfo lists).
+lt_opencl_device() { clinfo -l 2>/dev/null | sed -n 's/.*Device #0: //p' | head -1; }
+
+# The lines a results file starts with: the command given, commit, machine, OpenCL device, date.
+lt_results_header() {
+  echo "- command: \`$1\`"
+  echo "- commit: $(lt_commit)"
+  echo "- machine: $(lt_machine)"
+  echo "- OpenCL: $(lt_opencl_device)"
+  echo "- date: $(date -u +%Y-%m-%d)"
+}

@@ -12,11 +12,7 @@ table=$(build/benchmarks/bench_pool "$@")
 {
   echo "# The task pool measured on its own workload (lazy sort)"
   echo
-  echo "- command: \`benchmarks/pool.sh $*\`"
-  echo "- commit: $(lt_commit)"
-  echo "- machine: $(lt_machine)"
-  echo "- OpenCL: $(clinfo -l 2>/dev/null | sed -n 's/.*Device #0: //p' | head -1)"
-  echo "- date: $(date -u +%Y-%m-%d)"
+  lt_results_header "benchmarks/pool.sh $*"
   echo
   echo "$table"
 } >"$out"

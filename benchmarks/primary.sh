@@ -14,7 +14,7 @@ table=$(build/benchmarks/bench_primary "$@")
   echo "- command: \`benchmarks/primary.sh $*\`"
   echo "- commit: $(lt_commit)"
   echo "- machine: $(lt_machine)"
-  echo "- OpenCL: $(clinfo -l 2>/dev/null | sed -n 's/.*Device #0: //p' | head -1); Embree $(dpkg-query -W -f='${Version}' libembree-dev 2>/dev/null || echo 'not installed')"
+  echo "- OpenCL: $(lt_opencl_device); Embree $(dpkg-query -W -f='${Version}' libembree-dev 2>/dev/null || echo 'not installed')"
   echo "- date: $(date -u +%Y-%m-%d)"
   echo
   echo "$table"

@@ -16,11 +16,7 @@ table=$(PYTHONDONTWRITEBYTECODE=1 PYTHONPATH=python LAZYTRACE_LIBRARY=build/libl
 {
   echo "# Python overhead per call against the C API"
   echo
-  echo "- command: \`benchmarks/python_overhead.sh $*\`"
-  echo "- commit: $(lt_commit)"
-  echo "- machine: $(lt_machine)"
-  echo "- OpenCL: $(clinfo -l 2>/dev/null | sed -n 's/.*Device #0: //p' | head -1)"
-  echo "- date: $(date -u +%Y-%m-%d)"
+  lt_results_header "benchmarks/python_overhead.sh $*"
   echo
   echo "$table"
 } >"$out"
