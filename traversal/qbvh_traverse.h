@@ -9,6 +9,19 @@
 
 #include "traversal/qbvh_box4.h"
 
+/* Intersects the `count` triangles of a leaf from position `first` (kept out of line: it is
+ * called from two places of the loop). */
+LT_DEVICE_OUTLINE void lt_qbvh_leaf(LT_GLOBAL const lt_tri *tris, const lt_ray_setup *r, lt_hit_record *hit, lt_i32 first,
+                                    lt_i32 count, lt_trace_counters *c) {
+  for (lt_i32 k = first; k < first + count; k++) {
+    lt_tri tri = tris[k];
+    float v0[3] = {tri.v0.x, tri.v0.y, tri.v0.z}, v1[3] = {tri.v1.x, tri.v1.y, tri.v1.z};
+    float v2[3] = {tri.v2.x, tri.v2.y, tri.v2.z};
+    c->intersections++;
+    lt_intersect_triangle(r, v0, v1, v2, lt_float_as_int(tri.v0.w), hit);
+  }
+}
+
 #define LT_QBVH_TRAVERSE_NAME lt_qbvh_traverse
 #define LT_QBVH_TRAVERSE_BOX4 lt_qbvh_box4
 #include "traversal/qbvh_traverse_body.h"

@@ -34,6 +34,23 @@ LT_DEVICE int LT_QBVH_TRAVERSE_NAME(LT_GLOBAL const lt_qbvh_node *nodes, LT_GLOB
     for (int lane = 0; lane < 4; lane++)
       if (count[lane] == 0) mask &= ~(1 << lane);
 
+    /* One lane or none, the common case of coherent rays: no sorting, no entry. */
+    if ((mask & (mask - 1)) == 0) {
+      if (mask) {
+        int lane = (mask & 1) ? 0 : (mask & 2) ? 1 : (mask & 4) ? 2 : 3;
+        if (count[lane] < 0) {
+          node = n->first[lane];
+          continue;
+        }
+        lt_qbvh_leaf(tris, r, &hit, n->first[lane], count[lane], c);
+        if (any_hit && hit.prim >= 0) break;
+      }
+      if (sp == 0) break;
+      lt_i32 at = lt_qbvh_entry_pop(stack, &sp);
+      node = nodes[at >> 2].first[at & 3];
+      continue;
+    }
+
     /* Sort the lanes entered near to far; the others get +infinity and sort last (an entered
      * lane's key is at most the largest float, so it never ties with them). */
     float key[4];
@@ -62,14 +79,7 @@ LT_DEVICE int LT_QBVH_TRAVERSE_NAME(LT_GLOBAL const lt_qbvh_node *nodes, LT_GLOB
         inner[m++] = lane;
         continue;
       }
-      lt_i32 first = n->first[lane];
-      for (lt_i32 k = first; k < first + count[lane]; k++) {
-        lt_tri tri = tris[k];
-        float v0[3] = {tri.v0.x, tri.v0.y, tri.v0.z}, v1[3] = {tri.v1.x, tri.v1.y, tri.v1.z};
-        float v2[3] = {tri.v2.x, tri.v2.y, tri.v2.z};
-        c->intersections++;
-        lt_intersect_triangle(r, v0, v1, v2, lt_float_as_int(tri.v0.w), &hit);
-      }
+      lt_qbvh_leaf(tris, r, &hit, n->first[lane], count[lane], c);
       if (any_hit && hit.prim >= 0) break;
     }
     if (any_hit && hit.prim >= 0) break;
