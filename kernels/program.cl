@@ -8,3 +8,4 @@
 #include "kernels/kd_trace.cl"
 #include "kernels/irgrid_ondemand.cl"
 #include "kernels/irgrid_trace.cl"
+#include "kernels/qbvh_trace.cl"

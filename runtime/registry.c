@@ -16,7 +16,7 @@ static const lt__structure_class *const classes[LT_STRUCTURE_COUNT] = {
 };
 
 /* Names a user may give that later issues implement; each is refused with a clear message. */
-static const char planned[] = "qbvh, escape-bvh";
+static const char planned[] = "escape-bvh";
 
 static const char *const build_names[] = {"default", "full", "requested", "speculative"};
 

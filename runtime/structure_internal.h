@@ -36,6 +36,9 @@ lt_status lt__structure_wrap(lt_context *ctx, const lt_scene *scene, const lt_st
 /* Fault injection for tests: structures start with the smallest pools, heaps and reference
  * arrays they can have, so that every overflow-and-retry path runs. */
 extern int lt__structure_tiny_capacities;
+/* The most nodes a QBVH may have (default LT_QBVH_MAX_NODES, what its 26-bit stack entries can
+ * name); tests lower it to see a scene beyond it refused clearly. */
+extern int lt__structure_qbvh_max_nodes;
 /* The SAH parameters of a BVH structure's config. */
 lt__sah_config lt__structure_sah(const lt_structure_config *config);
 

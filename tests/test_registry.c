@@ -35,7 +35,7 @@ static void registry_entries_are_complete_and_consistent(void **state) {
 static void registry_planned_names_are_refused_and_unknown_ones_named(void **state) {
   (void)state;
   lt_structure_kind kind;
-  assert_int_equal(lt_structure_kind_parse("qbvh", &kind), LT_ERROR_UNSUPPORTED);
+  assert_int_equal(lt_structure_kind_parse("escape-bvh", &kind), LT_ERROR_UNSUPPORTED);
   assert_non_null(strstr(lt_last_error(), "not implemented yet"));
   assert_int_equal(lt_structure_kind_parse("octree", &kind), LT_ERROR_INVALID_ARGUMENT);
   for (int k = 0; k < LT_STRUCTURE_COUNT; k++) assert_non_null(strstr(lt_last_error(), lt_structure_kind_name(k)));

@@ -1,0 +1,9 @@
+/* The QBVH's trace kernel compiled as C for the native backend. */
+#include "kernels/native_kernels.h"
+
+#include "kernels/qbvh_trace.h"
+
+#define LT_TRACE_NATIVE lt__native_qbvh_trace_kernel
+#define LT_TRACE_VIEW lt_qbvh_trace_view
+#define LT_TRACE_ONE lt_qbvh_trace_one
+#include "kernels/trace_kernel_body.h"
