@@ -256,11 +256,11 @@ static int run_trace(run *m, lt_cli *cli, lt_context *ctx, lt_scene *scene, lt_s
   }
   if (any_failed(m)) goto done;
   /* Every rank must have read the same batch (launched with different files, they may not). */
-  unsigned long long n = total, lo = 0, hi = 0;
-  MPI_Allreduce(&n, &lo, 1, MPI_UNSIGNED_LONG_LONG, MPI_MIN, MPI_COMM_WORLD);
-  MPI_Allreduce(&n, &hi, 1, MPI_UNSIGNED_LONG_LONG, MPI_MAX, MPI_COMM_WORLD);
-  if (lo != hi && n != lo)
-    snprintf(m->error, sizeof m->error, "reading rays: %s holds %llu rays, another rank's ray file %llu", cli->rays, n, lo);
+  unsigned long long n = total, first_rank = total;
+  MPI_Bcast(&first_rank, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD);
+  if (n != first_rank)
+    snprintf(m->error, sizeof m->error, "reading rays: %s holds %llu rays, rank 0's ray file %llu", cli->rays, n,
+             first_rank);
   if (any_failed(m)) goto done;
 
   /* Trace this rank's share on its own structure. */
