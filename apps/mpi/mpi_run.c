@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "apps/cli.h"
@@ -42,8 +43,14 @@ static int fail(run *m, const char *what, lt_status status) {
 /* Every rank calls this at the same points. Returns nonzero on every rank if any rank has
  * failed; rank 0 then names each failed rank and its cause. */
 static int any_failed(run *m) {
-  int mine = m->error[0] != 0, any = 0;
-  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  int mine = m->error[0] != 0, any = 0, done = 0;
+  /* A rank that finished its share waits here for the others. Open MPI's blocking collectives
+   * poll without pause, which takes a core from the ranks still tracing when ranks share a
+   * machine: so the wait polls a non-blocking reduction and sleeps between polls. */
+  MPI_Request request;
+  MPI_Iallreduce(&mine, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD, &request);
+  for (MPI_Test(&request, &done, MPI_STATUS_IGNORE); !done; MPI_Test(&request, &done, MPI_STATUS_IGNORE))
+    nanosleep(&(struct timespec){0, 200000}, NULL);
   if (!any) return 0;
   char *all = m->rank == 0 ? calloc((size_t)m->ranks, MESSAGE_BYTES) : NULL;
   MPI_Gather(m->error, MESSAGE_BYTES, MPI_CHAR, all, MESSAGE_BYTES, MPI_CHAR, 0, MPI_COMM_WORLD);
