@@ -78,7 +78,7 @@ lt_status lt_rays_read_part(const char *path, size_t part, size_t parts, lt_ray 
     return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_rays_read_part: NULL argument or part %zu of %zu", part, parts);
   FILE *f = fopen(path, "rb");
   if (!f) return lt__fail(LT_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
-  struct stat st;
+  struct stat st = {0};
   if (fstat(fileno(f), &st) != 0 || st.st_size < 0 || (size_t)st.st_size % sizeof(lt_ray) != 0) {
     long size = (long)st.st_size;
     fclose(f);
