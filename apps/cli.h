@@ -18,6 +18,7 @@ typedef struct lt_cli {
   int agents, rays_per_agent, frames;
   uint64_t seed;
   int build_given;
+  int interleaved; /* --split interleaved: under mpirun, rank r takes items r, r + ranks, ... */
   lt_structure_config structure;
   lt_context_config context;
 } lt_cli;
@@ -38,6 +39,11 @@ int lt_cmd_trace(lt_cli *cli);
 int lt_cmd_collide(lt_cli *cli);
 int lt_cmd_scene(lt_cli *cli);
 int lt_cmd_devices(lt_cli *cli);
+
+/* The MPI build (LT_WITH_MPI): whether a launcher (mpirun) started this process, and trace,
+ * render or collide split between the ranks (apps/mpi/mpi_run.c). */
+int lt_mpi_launched(void);
+int lt_mpi_run(lt_cli *cli);
 
 /* Writes an 8-bit RGB image as PNG; returns 0 on success. */
 int lt_write_png(const char *path, int width, int height, const unsigned char *rgb);

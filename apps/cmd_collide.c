@@ -1,10 +1,12 @@
 /* lazytrace collide: the collision-ray batches of the on-demand paper (Vinkler et al. 2016,
  * section 5): agents move along random line segments inside the scene bounds; every frame the
  * structure is rebuilt from scratch and each agent shoots rays in random directions around
- * itself, as far as its next position. */
+ * itself, as far as its next position. With --hits, all frames' hits are written, frame after
+ * frame, each frame agent after agent. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "apps/cli.h"
 
@@ -24,8 +26,10 @@ int lt_cmd_collide(lt_cli *cli) {
   float *paths = malloc(6 * sizeof(float) * cli->agents);
   lt_ray *rays = malloc(n * sizeof *rays);
   lt_hit *hits = malloc(n * sizeof *hits);
+  /* With --hits, every frame's hits are kept and written, frame after frame, in ray order. */
+  lt_hit *all_hits = cli->hits ? malloc((n * cli->frames > 0 ? n * cli->frames : 1) * sizeof *all_hits) : NULL;
   int rc = 1;
-  if (!paths || !rays || !hits) {
+  if (!paths || !rays || !hits || (cli->hits && !all_hits)) {
     fprintf(stderr, "lazytrace collide: out of memory\n");
     goto done;
   }
@@ -47,6 +51,7 @@ int lt_cmd_collide(lt_cli *cli) {
     }
     int frame_hits = 0;
     for (size_t i = 0; i < n; i++) frame_hits += hits[i].prim >= 0;
+    if (all_hits) memcpy(all_hits + (size_t)f * n, hits, n * sizeof *hits);
     double b = lt_stats_get(frame_stats, "build_ms"), t = lt_stats_get(frame_stats, "trace_ms");
     build_sum += b, trace_sum += t, hits_sum += frame_hits;
     fprintf(stderr, "%5d  %8.2f  %8.2f  %8.2f  %d\n", f, b, t, b + t, frame_hits);
@@ -72,10 +77,17 @@ int lt_cmd_collide(lt_cli *cli) {
     snprintf(key, sizeof key, "ms_by_effect.%s", effects[e]);
     lt_stats_set(stats, key, e == 5 ? build_sum + trace_sum : 0.0);
   }
+  if (all_hits) {
+    lt_status status = lt_hits_write(cli->hits, all_hits, n * cli->frames);
+    if (status) {
+      rc = lt_cli_fail("writing hits", status);
+      goto done;
+    }
+  }
   rc = lt_cli_write_stats(cli, stats);
 
 done:
-  free(paths), free(rays), free(hits);
+  free(paths), free(rays), free(hits), free(all_hits);
   lt_scene_destroy(scene);
   lt_context_destroy(ctx);
   lt_stats_destroy(stats);

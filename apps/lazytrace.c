@@ -34,6 +34,9 @@ static const char usage[] =
     "                                        slips through a shared edge or vertex; fast:\n"
     "                                        Moller-Trumbore, fewer operations, may leak)\n"
     "         --stats FILE|-                 statistics as one JSON object\n"
+    "         --split tiles|interleaved      under mpirun (MPI build): each rank takes a contiguous\n"
+    "                                        share of the rays, pixels or agents (default), or\n"
+    "                                        every ranks-th one\n"
     "         and each structure's own options, listed with it below\n"
     "\n"
     "Ray file: 32-byte little-endian records: float ox oy oz tmin dx dy dz tmax.\n"
@@ -60,9 +63,10 @@ static const char *const command_help[][2] = {
     {"trace", "lazytrace trace SCENE --rays RAYS --hits HITS [--any] [OPTIONS]\n"
               "  Answers every ray of RAYS (closest hit, or any hit with --any) and writes HITS,\n"
               "  one record per ray in the same order.\n"},
-    {"collide", "lazytrace collide SCENE [--agents 100] [--rays-per-agent 8] [--frames 20] [--seed S]\n"
+    {"collide", "lazytrace collide SCENE [--agents 100] [--rays-per-agent 8] [--frames 20] [--seed S] [--hits HITS]\n"
                 "  The on-demand paper's collision test: agents move along random paths; each frame\n"
-                "  rebuilds the structure and every agent shoots rays around it.\n"},
+                "  rebuilds the structure and every agent shoots rays around it. --hits writes every\n"
+                "  frame's hits, frame after frame, agent after agent.\n"},
     {"scene", "lazytrace scene SCENE -o FILE.obj\n"
               "  Writes the scene's triangles as OBJ, in the order trace numbers them.\n"},
     {"devices", "lazytrace devices\n  Lists the OpenCL devices found and the native backend.\n"},
@@ -110,6 +114,12 @@ int main(int argc, char **argv) {
 
   lt_cli cli;
   if (lt_cli_parse(&cli, argc, argv) != 0) return 2;
+#ifdef LT_WITH_MPI
+  /* Started by mpirun: the tracing commands are split between the ranks. */
+  if (lt_mpi_launched() && (strcmp(cli.command, "render") == 0 || strcmp(cli.command, "trace") == 0 ||
+                            strcmp(cli.command, "collide") == 0))
+    return lt_mpi_run(&cli);
+#endif
   if (strcmp(cli.command, "render") == 0) return lt_cmd_render(&cli);
   if (strcmp(cli.command, "trace") == 0) return lt_cmd_trace(&cli);
   if (strcmp(cli.command, "collide") == 0) return lt_cmd_collide(&cli);

@@ -40,6 +40,10 @@ static int apply(lt_cli *cli, const char *option, const char *value) {
   else if (strcmp(option, "--hits") == 0) cli->hits = value;
   else if (strcmp(option, "--stats") == 0) cli->stats = value;
   else if (strcmp(option, "--device") == 0) return parse_device(value, &cli->context);
+  else if (strcmp(option, "--split") == 0) {
+    if (strcmp(value, "tiles") != 0 && strcmp(value, "interleaved") != 0) return bad(option, value, "tiles or interleaved");
+    cli->interleaved = strcmp(value, "interleaved") == 0;
+  }
   else if (strcmp(option, "--structure") == 0) {
     lt_status status = lt_structure_kind_parse(value, &cli->structure.kind);
     if (status) return fprintf(stderr, "lazytrace: %s\n", lt_last_error()), 1;

@@ -76,6 +76,11 @@ typedef struct lt_hit {
 /* Reads a ray file; *rays is malloc'ed and owned by the caller. A size that is not a multiple
  * of 32 bytes is LT_ERROR_PARSE. */
 lt_status lt_rays_read(const char *path, lt_ray **rays, size_t *count);
+/* Reads one share of a ray file, for a process that traces part of a batch (an MPI rank): of the
+ * file's *total rays, the part-th of `parts` nearly equal contiguous ranges, rays [*first,
+ * *first + *count) with *first = total * part / parts. Only that range is read. */
+lt_status lt_rays_read_part(const char *path, size_t part, size_t parts, lt_ray **rays, size_t *count, size_t *first,
+                            size_t *total);
 lt_status lt_rays_write(const char *path, const lt_ray *rays, size_t count);
 lt_status lt_hits_read(const char *path, lt_hit **hits, size_t *count);
 lt_status lt_hits_write(const char *path, const lt_hit *hits, size_t count);
@@ -415,6 +420,15 @@ typedef struct lt_render_config {
  * summed over all batches, rays_by_effect, ms_by_effect and one record per batch. */
 lt_status lt_render(lt_structure *structure, const lt_scene *scene, const lt_render_config *config, float *rgb,
                     lt_stats *stats);
+/* One part of the same render, for a program that splits an image between processes (MPI ranks,
+ * say): the pixels first + j * stride for j < count (row-major indices), written in their places
+ * in rgb, which has the whole image's size; no other pixel is touched. Every pixel gets the value
+ * lt_render gives it with the same config and seed, whatever the part. Contiguous parts (stride
+ * 1, a band of rows) keep each process's rays coherent, so it builds less of the structure;
+ * interleaved parts (first = rank, stride = ranks) balance load but each builds nearly all of
+ * it. The collision effect, which draws no pixel, is traced only by the part whose first is 0. */
+lt_status lt_render_part(lt_structure *structure, const lt_scene *scene, const lt_render_config *config, size_t first,
+                         size_t count, size_t stride, float *rgb, lt_stats *stats);
 /* The image size and spp lt_render will use for this scene and config. */
 void lt_render_size(const lt_scene *scene, const lt_render_config *config, int *width, int *height, int *spp);
 /* Linear RGB to 8-bit sRGB (the standard transfer curve), clamped to [0, 1]. */

@@ -33,6 +33,7 @@ typedef struct renderer {
   uint64_t seed;
   int progress;
   double start, last_progress;
+  size_t first, stride; /* the part of the image rendered: pixels first + j * stride */
 } renderer;
 
 void lt_render_size(const lt_scene *scene, const lt_render_config *config, int *width, int *height, int *spp) {
@@ -109,11 +110,13 @@ static camera_frame frame_of(const lt_camera *c, int width, int height) {
   return f;
 }
 
-/* The primary rays of pixels [first, last) for camera sample `pass`: through pixel centres
- * with one sample per pixel, jittered within the pixel with more. */
+/* The primary rays of the part's pixels [first, last) (counted within the part) for camera
+ * sample `pass`: through pixel centres with one sample per pixel, jittered within the pixel with
+ * more. A pixel's random numbers derive from its index in the image, never from the part. */
 static lt_status primary_batch(renderer *r, const camera_frame *f, int pass, size_t first, size_t last,
                                lt__batch *out) {
-  for (size_t i = first; i < last; i++) {
+  for (size_t j = first; j < last; j++) {
+    size_t i = r->first + j * r->stride;
     int x = (int)(i % (size_t)r->width), y = (int)(i / (size_t)r->width);
     lt__path path = {(int32_t)i, 1, 0, 0, 0, {1.0f / r->spp, 1.0f / r->spp, 1.0f / r->spp}, 0};
     path.rng = lt__path_rng_mix(lt__path_rng_mix(r->seed, (uint64_t)pass), i);
@@ -199,17 +202,31 @@ static lt_status collision(renderer *r) {
 lt_status lt_render(lt_structure *structure, const lt_scene *scene, const lt_render_config *config, float *rgb,
                     lt_stats *stats) {
   if (!scene || !rgb) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_render: NULL argument");
+  int width, height;
+  lt_render_size(scene, config, &width, &height, NULL);
+  return lt_render_part(structure, scene, config, 0, (size_t)width * height, 1, rgb, stats);
+}
+
+lt_status lt_render_part(lt_structure *structure, const lt_scene *scene, const lt_render_config *config, size_t first,
+                         size_t count, size_t stride, float *rgb, lt_stats *stats) {
+  if (!scene || !rgb) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_render: NULL argument");
   if (structure && structure->scene != scene)
     return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_render: the structure was built over another scene");
   renderer r = {structure, scene, {0}, stats, NULL, 0, rgb, 0, 0, 0, config ? config->seed : 0,
-                config ? config->progress : 0, lt_now_ms(), 0.0};
+                config ? config->progress : 0, lt_now_ms(), 0.0, first, stride};
   lt_render_size(scene, config, &r.width, &r.height, &r.spp);
+  size_t image_pixels = (size_t)r.width * r.height;
+  if (stride < 1 || (count && (first >= image_pixels || (count - 1) > (image_pixels - 1 - first) / stride)))
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT,
+                    "lt_render_part: pixels %zu + j * %zu for j < %zu reach beyond the %dx%d image", first, stride,
+                    count, r.width, r.height);
   r.sh = (lt__shading){scene, lt_scene_triangles(scene), lt_scene_materials(scene), lt_scene_lights(scene),
                        lt_scene_light_count(scene), config && config->effects ? *config->effects : lt_scene_effects(scene),
                        {0, 0, 0}};
   lt_scene_background(scene, r.sh.background);
-  size_t pixels = (size_t)r.width * r.height;
-  memset(rgb, 0, 3 * pixels * sizeof *rgb);
+  /* Only the part's pixels are touched; in a whole render that is every pixel. */
+  size_t pixels = count;
+  for (size_t j = 0; j < pixels; j++) memset(rgb + 3 * (first + j * stride), 0, 3 * sizeof *rgb);
 
   /* Every effect's count is there, zero for those the scene does not call for. */
   for (int e = 0; e < LT_EFFECT_COUNT; e++) {
@@ -222,7 +239,7 @@ lt_status lt_render(lt_structure *structure, const lt_scene *scene, const lt_ren
   size_t tile = cap / rays_per_pixel(&r.sh);
   if (tile < 1) tile = 1;
   if (tile > pixels) tile = pixels;
-  size_t tiles = (pixels + tile - 1) / tile;
+  size_t tiles = pixels ? (pixels + tile - 1) / tile : 0;
 
   lt__batch primary = {0}, cur[LT_EFFECT_COUNT] = {{0}}, next[LT_EFFECT_COUNT] = {{0}};
   lt_status status = LT_OK;
@@ -239,9 +256,10 @@ lt_status lt_render(lt_structure *structure, const lt_scene *scene, const lt_ren
       }
   } else {
     /* Nothing is traced from the camera: the image is the background. */
-    for (size_t i = 0; i < pixels; i++) memcpy(rgb + 3 * i, r.sh.background, 3 * sizeof *rgb);
+    for (size_t j = 0; j < pixels; j++) memcpy(rgb + 3 * (first + j * stride), r.sh.background, 3 * sizeof *rgb);
   }
-  if (!status && r.sh.effects.collision_agents > 0) status = collision(&r);
+  /* The collision frames draw no pixel: the part that holds pixel 0 traces them, once. */
+  if (!status && r.sh.effects.collision_agents > 0 && first == 0) status = collision(&r);
   if (r.last_progress > 0) fputc('\n', stderr);
 
   lt__batch_free(&primary);

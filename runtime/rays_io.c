@@ -72,6 +72,39 @@ lt_status lt_rays_read(const char *path, lt_ray **rays, size_t *count) {
   return read_records(path, sizeof(lt_ray), (void **)rays, count);
 }
 
+lt_status lt_rays_read_part(const char *path, size_t part, size_t parts, lt_ray **rays, size_t *count, size_t *first,
+                            size_t *total) {
+  if (!path || !rays || !count || !first || !total || parts < 1 || part >= parts)
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_rays_read_part: NULL argument or part %zu of %zu", part, parts);
+  FILE *f = fopen(path, "rb");
+  if (!f) return lt__fail(LT_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+  struct stat st = {0};
+  if (fstat(fileno(f), &st) != 0 || st.st_size < 0 || (size_t)st.st_size % sizeof(lt_ray) != 0) {
+    long size = (long)st.st_size;
+    fclose(f);
+    return lt__fail(LT_ERROR_PARSE, "%s: %ld bytes is not a whole number of %zu-byte records (truncated?)", path, size,
+                    sizeof(lt_ray));
+  }
+
+  /* floor(n * part / parts), written so that n * part cannot overflow. */
+  size_t n = (size_t)st.st_size / sizeof(lt_ray), q = n / parts, rem = n % parts;
+  size_t lo = q * part + rem * part / parts, hi = q * (part + 1) + rem * (part + 1) / parts;
+  lt_ray *data = malloc(hi > lo ? (hi - lo) * sizeof *data : 1);
+  if (!data) {
+    fclose(f);
+    return lt__fail(LT_ERROR_OUT_OF_MEMORY, "%s: out of memory for %zu rays", path, hi - lo);
+  }
+  size_t got = 0;
+  if (hi > lo && fseeko(f, (off_t)(lo * sizeof *data), SEEK_SET) == 0) got = fread(data, sizeof *data, hi - lo, f);
+  fclose(f);
+  if (got != hi - lo) {
+    free(data);
+    return lt__fail(LT_ERROR_IO, "%s: short read (%zu of %zu rays from ray %zu)", path, got, hi - lo, lo);
+  }
+  *rays = data, *count = hi - lo, *first = lo, *total = n;
+  return LT_OK;
+}
+
 lt_status lt_rays_write(const char *path, const lt_ray *rays, size_t count) {
   if (!path || (count && !rays)) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "lt_rays_write: NULL argument");
   return write_records(path, rays, sizeof(lt_ray), count);

@@ -294,9 +294,43 @@ static void render_refuses_a_structure_of_another_scene(void **state) {
   lt_scene_destroy(a), lt_scene_destroy(b);
 }
 
+/* An image rendered in parts (as MPI ranks do: bands of rows, or every third pixel), each part
+ * through its own structure, has exactly the whole render's bits; parts beyond the image are
+ * refused. */
+static void render_parts_equal_the_whole(void **state) {
+  (void)state;
+  lt_scene *scene = scene_from_text("parts.json", "{\"meshes\": [{\"generator\": \"cornell\"}],"
+                                                 " \"lights\": [{\"point\": [278, 500, 280], \"intensity\": [9e4, 9e4, 9e4]}],"
+                                                 " \"effects\": {\"primary\": true, \"shadows\": true,"
+                                                 " \"ao\": {\"samples\": 2, \"distance\": 100}}}");
+  enum { W = 24, H = 17, P = W * H };
+  lt_render_config config = {W, H, 2, NULL, 5, 0, 0};
+  float *whole = malloc(3 * sizeof(float) * P), *parts = malloc(3 * sizeof(float) * P);
+  lt_structure *one;
+  assert_int_equal(lt_structure_create(ctx, scene, NULL, NULL, &one), LT_OK);
+  assert_int_equal(lt_render(one, scene, &config, whole, NULL), LT_OK);
+  lt_structure_destroy(one);
+  for (int interleaved = 0; interleaved < 2; interleaved++) {
+    memset(parts, 0xff, 3 * sizeof(float) * P);
+    for (size_t part = 0; part < 3; part++) {
+      lt_structure *structure;
+      assert_int_equal(lt_structure_create(ctx, scene, NULL, NULL, &structure), LT_OK);
+      size_t first = interleaved ? part : part * 6 * W, count = interleaved ? (P - part + 2) / 3 : (part < 2 ? 6 * W : P - 12 * W);
+      assert_int_equal(lt_render_part(structure, scene, &config, first, count, interleaved ? 3 : 1, parts, NULL), LT_OK);
+      lt_structure_destroy(structure);
+    }
+    assert_memory_equal(whole, parts, 3 * sizeof(float) * P);
+  }
+  assert_int_equal(lt_render_part(NULL, scene, &config, P - 1, 2, 1, parts, NULL), LT_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(lt_render_part(NULL, scene, &config, 0, 1, 0, parts, NULL), LT_ERROR_INVALID_ARGUMENT);
+  free(whole), free(parts);
+  lt_scene_destroy(scene);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(render_refuses_a_structure_of_another_scene),
+      cmocka_unit_test(render_parts_equal_the_whole),
       cmocka_unit_test(render_without_lights_traces_no_shadow_rays),
       cmocka_unit_test(render_without_mirrors_traces_no_mirror_rays),
       cmocka_unit_test(render_primary_only_traces_only_primary_rays),

@@ -56,4 +56,11 @@ cmake --build "$examples/build" >"$prefix/example-build.log" || { cat "$prefix/e
 (cd "$examples" && LD_LIBRARY_PATH="$libdir" bash build.sh && LD_LIBRARY_PATH="$libdir" ./example)
 # The installed Python module finds the installed library by itself.
 (cd "$examples" && env -u LAZYTRACE_LIBRARY PYTHONPATH="$prefix/usr/lib/python3/dist-packages" "$python" example.py)
+# The MPI example, where Open MPI is installed: built with mpicc against the installed library.
+if command -v mpicc >/dev/null && command -v mpirun >/dev/null; then
+  [ -s "$examples/example_mpi.c" ] || { echo "README.md has no example example_mpi.c"; exit 1; }
+  mpicc -O2 "$examples/example_mpi.c" -I"$prefix/usr/include" -L"$libdir" -llazytrace -lm -o "$examples/example_mpi"
+  root=(); [ "$(id -u)" -eq 0 ] && root=(--allow-run-as-root)
+  LD_LIBRARY_PATH="$libdir" mpirun "${root[@]}" --oversubscribe -np 2 "$examples/example_mpi"
+fi
 echo "consumer: all passed"
