@@ -61,8 +61,8 @@ col() { awk -v c="$1" '{print $c}'; }
   echo "- time to image: the slowest rank's build plus trace (statistics total_ms); wall: the whole command,"
   echo "  ranks started, scene loaded and kernels compiled on every rank, image gathered and written;"
   echo "  imbalance: the slowest rank's time to image over the mean rank's; nodes: summed over ranks,"
-  echo "  and their ratio to one process's (1 process: its own); queue: bands of max(1, min(32, height / (8 ranks)))"
-  echo "  rows taken one at a time from a counter on rank 0 (of 512 rows: 32 at np 2, 21 at np 3, 16 at np 4)"
+  echo "  and their ratio to one process's (1 process: its own); queue: bands of rows taken one at a time"
+  echo "  from a counter on rank 0, guided: each half the rows left over the ranks, at least height / (16 ranks)"
   echo
   for device in $devices; do
     echo "## $device backend"

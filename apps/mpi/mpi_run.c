@@ -335,11 +335,22 @@ static void effect_stats(const lt_stats *stats, double rays_ms[2 * EFFECTS], int
   }
 }
 
-/* Rows per tile: about 8 tiles per rank, so the last tiles even out the ranks' finishing times,
- * at most 32 rows (a tile of full rows keeps the rays of a rank's consecutive tiles coherent). */
-static size_t queue_tile_rows(const run *m, int height) {
-  size_t rows = (size_t)height / (8 * (size_t)m->ranks);
-  return rows < 1 ? 1 : rows > 32 ? 32 : rows;
+/* The queue's tiles, bands of full rows from the top, shrinking as they go (guided): each is
+ * half the rows left over the ranks, and at least height / (16 ranks) rows (1 to 32). The large
+ * first tiles keep each rank's rays coherent (a rank reaches little of the tree beyond its own
+ * rows); the small last ones even out the ranks' finishing times. Returns the number of tiles;
+ * tile number `tile`, if there is one, is rows [*row0, *row1). */
+static size_t queue_tile(const run *m, int height, size_t tile, size_t *row0, size_t *row1) {
+  size_t h = height > 0 ? (size_t)height : 0, least = h / (16 * (size_t)m->ranks), at = 0, t = 0;
+  least = least < 1 ? 1 : least > 32 ? 32 : least;
+  for (; at < h; t++) {
+    size_t rows = (h - at + 2 * (size_t)m->ranks - 1) / (2 * (size_t)m->ranks);
+    rows = rows < least ? least : rows;
+    rows = rows < h - at ? rows : h - at;
+    if (t == tile) *row0 = at, *row1 = at + rows;
+    at += rows;
+  }
+  return t;
 }
 
 /* Renders the tiles this rank takes from the counter on rank 0 (one-sided atomics: the counter
@@ -348,7 +359,7 @@ static size_t queue_tile_rows(const run *m, int height) {
  * in place in image. Collective (the window). */
 static void render_queue(run *m, lt_structure *structure, const lt_scene *scene, const lt_render_config *config,
                          int width, int height, float *image, int **taken, size_t *count, lt_stats *stats) {
-  size_t rows = queue_tile_rows(m, height), tiles = ((size_t)height + rows - 1) / rows;
+  size_t tiles = queue_tile(m, height, 0, &(size_t){0}, &(size_t){0});
   long *counter = NULL;
   MPI_Win win;
   MPI_Win_allocate(m->rank == 0 ? (MPI_Aint)sizeof(long) : 0, sizeof(long), MPI_INFO_NULL, MPI_COMM_WORLD, &counter,
@@ -366,9 +377,9 @@ static void render_queue(run *m, lt_structure *structure, const lt_scene *scene,
     /* A rank that failed keeps taking tiles without rendering them, so that none waits on it. */
     if (tile < 0 || (size_t)tile >= tiles) break;
     if (m->error[0]) continue;
-    size_t first = (size_t)tile * rows * width, last_row = ((size_t)tile + 1) * rows;
-    size_t pixels = ((last_row < (size_t)height ? last_row : (size_t)height) - (size_t)tile * rows) * width;
-    lt_status status = lt_render_part(structure, scene, config, first, pixels, 1, image, stats);
+    size_t row0 = 0, row1 = 0;
+    queue_tile(m, height, (size_t)tile, &row0, &row1);
+    lt_status status = lt_render_part(structure, scene, config, row0 * width, (row1 - row0) * width, 1, image, stats);
     if (status) fail(m, "rendering", status);
     effect_stats(stats, sums, 1);
     (*taken)[(*count)++] = (int)tile;
@@ -418,7 +429,7 @@ static int run_render(run *m, lt_cli *cli, lt_context *ctx, lt_scene *scene, lt_
   }
   lt_status status = m->error[0] ? LT_OK : lt_structure_create(ctx, scene, &cli->structure, stats, &structure);
   if (status) fail(m, "building the structure", status);
-  size_t rows = queue_tile_rows(m, height), tiles = ((size_t)height + rows - 1) / rows;
+  size_t tiles = queue_tile(m, height, 0, &(size_t){0}, &(size_t){0});
   if (cli->queue) {
     /* Every rank takes part (the window is collective), a failed one without rendering. */
     render_queue(m, structure, scene, &config, width, height, image, &taken, &taken_count, stats);
@@ -439,8 +450,9 @@ static int run_render(run *m, lt_cli *cli, lt_context *ctx, lt_scene *scene, lt_
    * each rank sends the tiles it took, in the order taken, then their pixels in the same order. */
   if (cli->queue) {
     for (size_t t = 0; t < taken_count; t++) {
-      size_t first = (size_t)taken[t] * rows * width, end = ((size_t)taken[t] + 1) * rows * width;
-      if (end > pixels) end = pixels;
+      size_t row0 = 0, row1 = 0;
+      queue_tile(m, height, (size_t)taken[t], &row0, &row1);
+      size_t first = row0 * width, end = row1 * width;
       memcpy(mine + 3 * s.count, image + 3 * first, 3 * (end - first) * sizeof *mine);
       s.count += end - first;
     }
@@ -454,8 +466,9 @@ static int run_render(run *m, lt_cli *cli, lt_context *ctx, lt_scene *scene, lt_
       unshare(m, cli, (const char *)gathered, pixels, 3 * sizeof *image, (char *)image);
     } else if (cli->queue) {
       for (size_t t = 0, at = 0; t < tiles; t++) {
-        size_t first = (size_t)all_taken[t] * rows * width, end = ((size_t)all_taken[t] + 1) * rows * width;
-        if (end > pixels) end = pixels;
+        size_t row0 = 0, row1 = 0;
+        queue_tile(m, height, (size_t)all_taken[t], &row0, &row1);
+        size_t first = row0 * width, end = row1 * width;
         memcpy(image + 3 * first, gathered + 3 * at, 3 * (end - first) * sizeof *image);
         at += end - first;
       }
