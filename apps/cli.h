@@ -19,6 +19,7 @@ typedef struct lt_cli {
   uint64_t seed;
   int build_given;
   int interleaved; /* --split interleaved: under mpirun, rank r takes items r, r + ranks, ... */
+  int queue;       /* --split queue: under mpirun, render's ranks take bands of rows from a shared counter */
   lt_structure_config structure;
   lt_context_config context;
 } lt_cli;

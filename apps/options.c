@@ -41,8 +41,10 @@ static int apply(lt_cli *cli, const char *option, const char *value) {
   else if (strcmp(option, "--stats") == 0) cli->stats = value;
   else if (strcmp(option, "--device") == 0) return parse_device(value, &cli->context);
   else if (strcmp(option, "--split") == 0) {
-    if (strcmp(value, "tiles") != 0 && strcmp(value, "interleaved") != 0) return bad(option, value, "tiles or interleaved");
+    if (strcmp(value, "tiles") != 0 && strcmp(value, "interleaved") != 0 && strcmp(value, "queue") != 0)
+      return bad(option, value, "tiles, interleaved or queue");
     cli->interleaved = strcmp(value, "interleaved") == 0;
+    cli->queue = strcmp(value, "queue") == 0;
   }
   else if (strcmp(option, "--structure") == 0) {
     lt_status status = lt_structure_kind_parse(value, &cli->structure.kind);

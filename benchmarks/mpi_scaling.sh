@@ -2,7 +2,8 @@
 # Strong scaling of lazytrace under mpirun on one machine: house-grid:6x5 rendered with primary
 # rays, and with primary plus AO rays, by 1 process and by mpirun -np 1, 2, 3 and 4 (3 and 4
 # oversubscribed: more ranks than cores, to show the overhead), each rank taking a contiguous
-# band of rows (tiles) or every ranks-th pixel (interleaved). Reports the median over RUNS of the
+# band of rows (tiles), every ranks-th pixel (interleaved) or bands of rows from a shared counter
+# as it asks for them (queue). Reports the median over RUNS of the
 # time to image (the slowest rank's build plus trace), of the wall time of the whole command
 # (starting the ranks, loading, compiling kernels, gathering), the load imbalance (slowest rank's
 # time to image over the mean) and the nodes built summed over ranks against one process's (how
@@ -60,7 +61,8 @@ col() { awk -v c="$1" '{print $c}'; }
   echo "- time to image: the slowest rank's build plus trace (statistics total_ms); wall: the whole command,"
   echo "  ranks started, scene loaded and kernels compiled on every rank, image gathered and written;"
   echo "  imbalance: the slowest rank's time to image over the mean rank's; nodes: summed over ranks,"
-  echo "  and their ratio to one process's (1 process: its own)"
+  echo "  and their ratio to one process's (1 process: its own); queue: bands of rows taken one at a time"
+  echo "  from a counter on rank 0, guided: each half the rows left over the ranks, at least height / (16 ranks)"
   echo
   for device in $devices; do
     echo "## $device backend"
@@ -70,8 +72,8 @@ col() { awk -v c="$1" '{print $c}'; }
     for fx in primary ao; do
       base_t="" base_n="" base_r=""
       for np in 0 1 2 3 4; do
-        for split in tiles interleaved; do
-          [ "$np" -le 1 ] && [ "$split" = interleaved ] && continue
+        for split in tiles interleaved queue; do
+          [ "$np" -le 1 ] && [ "$split" != tiles ] && continue
           : >"$tmp/runs"
           for r in $(seq "$runs"); do
             one "$np" render "$tmp/$fx.json" -o "$tmp/x.png" --device "$device" --split "$split" >>"$tmp/runs"

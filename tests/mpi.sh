@@ -59,6 +59,11 @@ for device in native opencl; do
   same "trace interleaved -np 3 on $device" "$T/out.hits" 3 trace sphere:2 --rays "$T/in.rays" --hits "$T/out.hits" --device $device --split interleaved
   same "render interleaved -np 2 on $device" "$T/ao.png" 2 render "$T/ao.json" -o "$T/ao.png" --device $device --split interleaved
   same "collide interleaved -np 3 on $device" "$T/c.hits" 3 collide house --agents 10 --rays-per-agent 4 --frames 3 --hits "$T/c.hits" --device $device --split interleaved
+  # --split queue: bands of rows taken from a counter on rank 0, in whatever order the ranks come.
+  for np in 1 2 3; do
+    same "render queue AO and shadows -np $np on $device" "$T/ao.png" $np render "$T/ao.json" -o "$T/ao.png" --device $device --split queue
+  done
+  same "render queue -np 3 on $device" "$T/out.png" 3 render cornell --size 48x32 --spp 2 --seed 7 -o "$T/out.png" --device $device --split queue
   same "kd-tree trace -np 2 on $device" "$T/kd.hits" 2 trace sphere:2 --rays "$T/in.rays" --hits "$T/kd.hits" --device $device --structure kdtree
 done
 
@@ -74,6 +79,24 @@ assert s["nodes_built"] == sum(r["nodes_built"] for r in ranks)
 assert s["total_ms"] == max(r["total_ms"] for r in ranks)
 EOF
 then pass "statistics summed, slowest rank's time, per-rank records"; else fail "statistics: $(head -c 300 "$T/err")"; fi
+
+# With the queue every tile is taken once: the ranks' tiles add up to the image's.
+timeout 120 "${mpi[@]}" -np 3 "$LT" render cornell --size 48x32 -o "$T/q.png" --device native --split queue --stats "$T/q.json" 2>"$T/err"
+if python3 - "$T/q.json" <<'EOF'
+import json, sys
+s = json.load(open(sys.argv[1]))
+assert s["mpi"]["split"] == "queue" and s["mpi"]["ranks"] == 3, s["mpi"]
+ranks = s["per_rank"]
+# The guided tiles of 32 rows at 3 ranks: half the rows left over the ranks, at least 1.
+tiles, left = 0, 32
+while left:
+    left -= min(left, max(1, -(-left // 6)))
+    tiles += 1
+assert tiles == 13 and sum(r["tiles"] for r in ranks) == tiles, ranks
+assert s["rays"] == 48 * 32 == sum(r["rays"] for r in ranks), s["rays"]
+assert s["rays_by_effect"]["primary"] == 48 * 32, s["rays_by_effect"]
+EOF
+then pass "queue statistics: every tile taken once, rays summed"; else fail "queue statistics: $(head -c 300 "$T/err")"; fi
 
 # expect_failure NAME OUTPUT PATTERN MPIRUN-ARGS...: non-zero exit, PATTERN on stderr, and OUTPUT
 # as it was before (absent, or the old bytes).

@@ -26,6 +26,7 @@ typedef struct run {
   int work_groups; /* the persistent work-groups this rank launches */
   char error[MESSAGE_BYTES]; /* this rank's first failure: what, then why; "" if none */
   double start_ms, gather_ms;
+  double tiles; /* --split queue: the tiles this rank rendered; -1 otherwise */
 } run;
 
 int lt_mpi_launched(void) {
@@ -99,7 +100,10 @@ static int open_rank(run *m, lt_cli *cli, lt_context **ctx, lt_scene **scene, lt
   m->work_groups = lt_context_work_groups(*ctx);
   if (m->rank == 0)
     fprintf(stderr, "lazytrace: %s: %zu triangles; %d ranks (%s), %d work-group%s each on %s\n", cli->scene,
-            lt_scene_triangle_count(*scene), m->ranks, cli->interleaved ? "interleaved" : "contiguous shares",
+            lt_scene_triangle_count(*scene), m->ranks,
+            cli->interleaved                                           ? "interleaved"
+            : cli->queue && strcmp(cli->command, "render") == 0 ? "a queue of tiles"
+                                                                       : "contiguous shares",
             m->work_groups, m->work_groups == 1 ? "" : "s", lt_context_device_name(*ctx));
   return 0;
 }
@@ -142,8 +146,9 @@ static int same_on_every_rank(const char *key) {
   return 0;
 }
 
-/* The per-rank record's keys, in the order "per_rank" lists them. */
-static const char *const rank_keys[] = {"rays", "nodes_built", "build_ms", "trace_ms", "total_ms"};
+/* The per-rank record's keys, in the order "per_rank" lists them; the last is the run's own
+ * (--split queue's tiles taken), not a statistic, and listed only where it is known. */
+static const char *const rank_keys[] = {"rays", "nodes_built", "build_ms", "trace_ms", "total_ms", "tiles"};
 #define RANK_KEYS (sizeof rank_keys / sizeof rank_keys[0])
 
 /* Merges every rank's stats into rank 0's. Build, trace and total time are the slowest rank's
@@ -160,7 +165,8 @@ static void merge_stats(run *m, lt_stats *stats, double **records) {
     MPI_Abort(MPI_COMM_WORLD, 1);
   }
   for (size_t k = 0; k < keys; k++) mine[k] = lt_stats_get(stats, lt_stats_key(k));
-  for (size_t k = 0; k < RANK_KEYS; k++) mine[keys + k] = lt_stats_get(stats, rank_keys[k]);
+  for (size_t k = 0; k + 1 < RANK_KEYS; k++) mine[keys + k] = lt_stats_get(stats, rank_keys[k]);
+  mine[keys + RANK_KEYS - 1] = m->tiles;
   size_t w = keys + RANK_KEYS;
   MPI_Gather(mine, (int)w, MPI_DOUBLE, all, (int)w, MPI_DOUBLE, 0, MPI_COMM_WORLD);
   free(mine);
@@ -206,11 +212,12 @@ static int write_stats(run *m, const lt_cli *cli, const lt_stats *stats, const d
     fseeko(f, (off_t)bytes - 3, SEEK_SET);
     fprintf(f, ",\n  \"mpi\": {\"ranks\": %d, \"split\": \"%s\", \"work_groups_per_rank\": %d, \"gather_ms\": %.3f, "
                "\"wall_ms\": %.3f},\n  \"per_rank\": [",
-            m->ranks, cli->interleaved ? "interleaved" : "tiles", m->work_groups, m->gather_ms, lt_now_ms() - m->start_ms);
+            m->ranks, cli->interleaved ? "interleaved" : cli->queue && strcmp(cli->command, "render") == 0 ? "queue" : "tiles", m->work_groups, m->gather_ms, lt_now_ms() - m->start_ms);
     for (int r = 0; r < m->ranks; r++) {
       fprintf(f, "%s\n    {\"rank\": %d", r ? "," : "", r);
       for (size_t k = 0; k < RANK_KEYS; k++) {
         double v = records[r * RANK_KEYS + k];
+        if (v < 0 && k + 1 == RANK_KEYS) continue;
         if (v < 0) fprintf(f, ", \"%s\": null", rank_keys[k]);
         else if (strstr(rank_keys[k], "_ms")) fprintf(f, ", \"%s\": %.3f", rank_keys[k], v);
         else fprintf(f, ", \"%s\": %.0f", rank_keys[k], v);
@@ -310,12 +317,93 @@ done:
   return rc;
 }
 
+/* ---- render --split queue: bands of rows handed out one at a time ---- */
+
+/* The pixels every lt_render_part reports per effect; each call restarts them, so a rank that
+ * renders many tiles sums them itself. */
+static const char *const effect_names[] = {"primary", "shadows", "ao", "diffuse", "mirror", "collision"};
+#define EFFECTS (sizeof effect_names / sizeof effect_names[0])
+
+static void effect_stats(const lt_stats *stats, double rays_ms[2 * EFFECTS], int add) {
+  for (size_t e = 0; e < EFFECTS; e++) {
+    char key[64];
+    snprintf(key, sizeof key, "rays_by_effect.%s", effect_names[e]);
+    double rays = lt_stats_get(stats, key);
+    snprintf(key, sizeof key, "ms_by_effect.%s", effect_names[e]);
+    double ms = lt_stats_get(stats, key);
+    if (add) rays_ms[2 * e] += rays > 0 ? rays : 0, rays_ms[2 * e + 1] += ms > 0 ? ms : 0;
+  }
+}
+
+/* The queue's tiles, bands of full rows from the top, shrinking as they go (guided): each is
+ * half the rows left over the ranks, and at least height / (16 ranks) rows (1 to 32). The large
+ * first tiles keep each rank's rays coherent (a rank reaches little of the tree beyond its own
+ * rows); the small last ones even out the ranks' finishing times. Returns the number of tiles;
+ * tile number `tile`, if there is one, is rows [*row0, *row1). */
+static size_t queue_tile(const run *m, int height, size_t tile, size_t *row0, size_t *row1) {
+  size_t h = height > 0 ? (size_t)height : 0, least = h / (16 * (size_t)m->ranks), at = 0, t = 0;
+  least = least < 1 ? 1 : least > 32 ? 32 : least;
+  for (; at < h; t++) {
+    size_t rows = (h - at + 2 * (size_t)m->ranks - 1) / (2 * (size_t)m->ranks);
+    rows = rows < least ? least : rows;
+    rows = rows < h - at ? rows : h - at;
+    if (t == tile) *row0 = at, *row1 = at + rows;
+    at += rows;
+  }
+  return t;
+}
+
+/* Renders the tiles this rank takes from the counter on rank 0 (one-sided atomics: the counter
+ * lives in a window on rank 0 and each rank fetches and increments it with no help from rank 0),
+ * through the one structure. *taken gets the tile indices in the order taken, their pixels are
+ * in place in image. Collective (the window). */
+static void render_queue(run *m, lt_structure *structure, const lt_scene *scene, const lt_render_config *config,
+                         int width, int height, float *image, int **taken, size_t *count, lt_stats *stats) {
+  size_t tiles = queue_tile(m, height, 0, &(size_t){0}, &(size_t){0});
+  long *counter = NULL;
+  MPI_Win win;
+  MPI_Win_allocate(m->rank == 0 ? (MPI_Aint)sizeof(long) : 0, sizeof(long), MPI_INFO_NULL, MPI_COMM_WORLD, &counter,
+                   &win);
+  if (m->rank == 0) *counter = 0;
+  MPI_Barrier(MPI_COMM_WORLD); /* the counter is zero before anyone takes a tile */
+  *taken = malloc((tiles ? tiles : 1) * sizeof **taken), *count = 0;
+  if (!*taken) fail(m, "rendering", LT_ERROR_OUT_OF_MEMORY);
+  double sums[2 * EFFECTS] = {0};
+  MPI_Win_lock_all(MPI_MODE_NOCHECK, win);
+  for (;;) {
+    long one = 1, tile = 0;
+    MPI_Fetch_and_op(&one, &tile, MPI_LONG, 0, 0, MPI_SUM, win);
+    MPI_Win_flush(0, win);
+    /* A rank that failed keeps taking tiles without rendering them, so that none waits on it. */
+    if (tile < 0 || (size_t)tile >= tiles) break;
+    if (m->error[0]) continue;
+    size_t row0 = 0, row1 = 0;
+    queue_tile(m, height, (size_t)tile, &row0, &row1);
+    lt_status status = lt_render_part(structure, scene, config, row0 * width, (row1 - row0) * width, 1, image, stats);
+    if (status) fail(m, "rendering", status);
+    effect_stats(stats, sums, 1);
+    (*taken)[(*count)++] = (int)tile;
+  }
+  MPI_Win_unlock_all(win);
+  MPI_Win_free(&win);
+  for (size_t e = 0; e < EFFECTS; e++) {
+    char key[64];
+    snprintf(key, sizeof key, "rays_by_effect.%s", effect_names[e]);
+    lt_stats_set(stats, key, sums[2 * e]);
+    snprintf(key, sizeof key, "ms_by_effect.%s", effect_names[e]);
+    lt_stats_set(stats, key, sums[2 * e + 1]);
+  }
+  m->tiles = (double)*count;
+}
+
 /* ---- render: pixels split between the ranks, the image gathered on rank 0 ---- */
 
 static int run_render(run *m, lt_cli *cli, lt_context *ctx, lt_scene *scene, lt_stats *stats) {
   lt_structure *structure = NULL;
   float *image = NULL, *mine = NULL, *gathered = NULL;
   unsigned char *rgb = NULL;
+  int *taken = NULL, *all_taken = NULL;
+  size_t taken_count = 0;
   int rc = 1;
   lt_render_config config = {cli->size_given ? cli->width : 0, cli->size_given ? cli->height : 0, cli->spp, NULL,
                              cli->seed, 0, 0};
@@ -326,7 +414,9 @@ static int run_render(run *m, lt_cli *cli, lt_context *ctx, lt_scene *scene, lt_
   /* Contiguous shares are bands of rows: each rank's rays stay coherent and its tree small. */
   share s = {0, 0, 1};
   if (!m->error[0]) {
-    if (cli->interleaved) {
+    if (cli->queue) {
+      s.count = 0; /* known once the tiles are taken */
+    } else if (cli->interleaved) {
       s = share_of(m, cli, pixels);
     } else {
       run rows = *m;
@@ -334,12 +424,18 @@ static int run_render(run *m, lt_cli *cli, lt_context *ctx, lt_scene *scene, lt_
       s.first *= (size_t)width, s.count *= (size_t)width;
     }
     image = malloc(3 * (pixels ? pixels : 1) * sizeof *image);
-    mine = malloc(3 * (s.count ? s.count : 1) * sizeof *mine);
+    mine = malloc(3 * (cli->queue ? pixels : s.count ? s.count : 1) * sizeof *mine);
     if (!image || !mine) fail(m, "rendering", LT_ERROR_OUT_OF_MEMORY);
   }
   lt_status status = m->error[0] ? LT_OK : lt_structure_create(ctx, scene, &cli->structure, stats, &structure);
   if (status) fail(m, "building the structure", status);
-  if (!m->error[0]) {
+  size_t tiles = queue_tile(m, height, 0, &(size_t){0}, &(size_t){0});
+  if (cli->queue) {
+    /* Every rank takes part (the window is collective), a failed one without rendering. */
+    render_queue(m, structure, scene, &config, width, height, image, &taken, &taken_count, stats);
+    if (m->rank == 0 && !m->error[0] && !(all_taken = malloc((tiles ? tiles : 1) * sizeof *all_taken)))
+      fail(m, "gathering the image", LT_ERROR_OUT_OF_MEMORY);
+  } else if (!m->error[0]) {
     status = lt_render_part(structure, scene, &config, s.first, s.count, s.stride, image, stats);
     if (status) fail(m, "rendering", status);
   }
@@ -350,12 +446,35 @@ static int run_render(run *m, lt_cli *cli, lt_context *ctx, lt_scene *scene, lt_
   }
   if (any_failed(m)) goto done;
 
-  /* Rank 0 gathers every rank's pixels, puts them in place and writes the PNG. */
-  for (size_t j = 0; j < s.count; j++) memcpy(mine + 3 * j, image + 3 * (s.first + j * s.stride), 3 * sizeof *mine);
+  /* Rank 0 gathers every rank's pixels, puts them in place and writes the PNG. With the queue
+   * each rank sends the tiles it took, in the order taken, then their pixels in the same order. */
+  if (cli->queue) {
+    for (size_t t = 0; t < taken_count; t++) {
+      size_t row0 = 0, row1 = 0;
+      queue_tile(m, height, (size_t)taken[t], &row0, &row1);
+      size_t first = row0 * width, end = row1 * width;
+      memcpy(mine + 3 * s.count, image + 3 * first, 3 * (end - first) * sizeof *mine);
+      s.count += end - first;
+    }
+    gather(m, taken, taken_count, sizeof *taken, all_taken);
+  } else {
+    for (size_t j = 0; j < s.count; j++) memcpy(mine + 3 * j, image + 3 * (s.first + j * s.stride), 3 * sizeof *mine);
+  }
   gather(m, mine, s.count, 3 * sizeof *mine, gathered);
   if (m->rank == 0) {
-    if (cli->interleaved) unshare(m, cli, (const char *)gathered, pixels, 3 * sizeof *image, (char *)image);
-    else memcpy(image, gathered, 3 * pixels * sizeof *image);
+    if (cli->interleaved) {
+      unshare(m, cli, (const char *)gathered, pixels, 3 * sizeof *image, (char *)image);
+    } else if (cli->queue) {
+      for (size_t t = 0, at = 0; t < tiles; t++) {
+        size_t row0 = 0, row1 = 0;
+        queue_tile(m, height, (size_t)all_taken[t], &row0, &row1);
+        size_t first = row0 * width, end = row1 * width;
+        memcpy(image + 3 * first, gathered + 3 * at, 3 * (end - first) * sizeof *image);
+        at += end - first;
+      }
+    } else {
+      memcpy(image, gathered, 3 * pixels * sizeof *image);
+    }
     lt_image_to_srgb8(image, pixels, rgb);
     const char *output = cli->output ? cli->output : "render.png";
     if (lt_write_png(output, width, height, rgb) != 0)
@@ -373,7 +492,7 @@ static int run_render(run *m, lt_cli *cli, lt_context *ctx, lt_scene *scene, lt_
   free(records);
 
 done:
-  free(image), free(mine), free(gathered), free(rgb);
+  free(image), free(mine), free(gathered), free(rgb), free(taken), free(all_taken);
   lt_structure_destroy(structure);
   return rc;
 }
@@ -496,6 +615,7 @@ int lt_mpi_run(lt_cli *cli) {
   if (MPI_Init_thread(NULL, NULL, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS)
     return fprintf(stderr, "lazytrace: MPI could not start\n"), 1;
   run m = {0};
+  m.tiles = -1;
   m.start_ms = lt_now_ms();
   MPI_Comm_rank(MPI_COMM_WORLD, &m.rank);
   MPI_Comm_size(MPI_COMM_WORLD, &m.ranks);
