@@ -35,6 +35,9 @@ int lt_cli_check_outputs(const lt_cli *cli);
 /* Writes stats to cli->stats ("-" for stdout) if it was asked for, whole or not at all. */
 int lt_cli_write_stats(const lt_cli *cli, const lt_stats *stats);
 
+/* A collision run's statistics: the last frame's (names, nodes, memory) with the totals over
+ * frames of build, trace and rays, all of them collision rays; load_ms is kept. */
+void lt_cli_collide_totals(lt_stats *stats, const lt_stats *last_frame, double build_ms, double trace_ms, double rays);
 int lt_cmd_render(lt_cli *cli);
 int lt_cmd_trace(lt_cli *cli);
 int lt_cmd_collide(lt_cli *cli);

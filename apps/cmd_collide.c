@@ -59,24 +59,7 @@ int lt_cmd_collide(lt_cli *cli) {
   fprintf(stderr, "lazytrace: %d frames of %zu rays: build %.1f ms, trace %.1f ms, %.0f hits\n", cli->frames, n,
           build_sum, trace_sum, hits_sum);
 
-  /* Totals over all frames; the names, node and memory figures are those of the last frame. */
-  double load_ms = lt_stats_get(stats, "load_ms");
-  lt_stats_copy(stats, frame_stats);
-  lt_stats_set(stats, "load_ms", load_ms);
-  lt_stats_set(stats, "build_ms", build_sum);
-  lt_stats_set(stats, "trace_ms", trace_sum);
-  lt_stats_set(stats, "total_ms", build_sum + trace_sum);
-  lt_stats_set(stats, "rays", (double)n * cli->frames);
-
-  /* Every ray here is a collision ray, as a scene file's collision effect would count it. */
-  static const char *const effects[] = {"primary", "shadows", "ao", "diffuse", "mirror", "collision"};
-  for (int e = 0; e < 6; e++) {
-    char key[64];
-    snprintf(key, sizeof key, "rays_by_effect.%s", effects[e]);
-    lt_stats_set(stats, key, e == 5 ? (double)n * cli->frames : 0.0);
-    snprintf(key, sizeof key, "ms_by_effect.%s", effects[e]);
-    lt_stats_set(stats, key, e == 5 ? build_sum + trace_sum : 0.0);
-  }
+  lt_cli_collide_totals(stats, frame_stats, build_sum, trace_sum, (double)n * cli->frames);
   if (all_hits) {
     lt_status status = lt_hits_write(cli->hits, all_hits, n * cli->frames);
     if (status) {
@@ -93,4 +76,23 @@ done:
   lt_stats_destroy(stats);
   lt_stats_destroy(frame_stats);
   return rc;
+}
+
+void lt_cli_collide_totals(lt_stats *stats, const lt_stats *last_frame, double build_ms, double trace_ms, double rays) {
+  double load_ms = lt_stats_get(stats, "load_ms");
+  lt_stats_copy(stats, last_frame);
+  lt_stats_set(stats, "load_ms", load_ms);
+  lt_stats_set(stats, "build_ms", build_ms);
+  lt_stats_set(stats, "trace_ms", trace_ms);
+  lt_stats_set(stats, "total_ms", build_ms + trace_ms);
+  lt_stats_set(stats, "rays", rays);
+  /* Every ray here is a collision ray, as a scene file's collision effect would count it. */
+  static const char *const effects[] = {"primary", "shadows", "ao", "diffuse", "mirror", "collision"};
+  for (int e = 0; e < 6; e++) {
+    char key[64];
+    snprintf(key, sizeof key, "rays_by_effect.%s", effects[e]);
+    lt_stats_set(stats, key, e == 5 ? rays : 0.0);
+    snprintf(key, sizeof key, "ms_by_effect.%s", effects[e]);
+    lt_stats_set(stats, key, e == 5 ? build_ms + trace_ms : 0.0);
+  }
 }

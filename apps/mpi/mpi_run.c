@@ -583,21 +583,7 @@ static int run_collide(run *m, lt_cli *cli, lt_context *ctx, lt_scene *scene, lt
   }
 
   /* As the one-process tool: totals over frames, names and node figures of the last frame. */
-  double load_ms = lt_stats_get(stats, "load_ms");
-  lt_stats_copy(stats, frame_stats);
-  lt_stats_set(stats, "load_ms", load_ms);
-  lt_stats_set(stats, "build_ms", build_sum);
-  lt_stats_set(stats, "trace_ms", trace_sum);
-  lt_stats_set(stats, "total_ms", build_sum + trace_sum);
-  lt_stats_set(stats, "rays", (double)count * frames);
-  static const char *const effects[] = {"primary", "shadows", "ao", "diffuse", "mirror", "collision"};
-  for (int e = 0; e < 6; e++) {
-    char key[64];
-    snprintf(key, sizeof key, "rays_by_effect.%s", effects[e]);
-    lt_stats_set(stats, key, e == 5 ? (double)count * frames : 0.0);
-    snprintf(key, sizeof key, "ms_by_effect.%s", effects[e]);
-    lt_stats_set(stats, key, e == 5 ? build_sum + trace_sum : 0.0);
-  }
+  lt_cli_collide_totals(stats, frame_stats, build_sum, trace_sum, (double)count * frames);
   double *records;
   merge_stats(m, stats, &records);
   say_totals(m, stats);
