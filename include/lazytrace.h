@@ -201,7 +201,8 @@ lt_status lt_stats_write_json(const lt_stats *stats, FILE *out);
   X(LT_STRUCTURE_GRID, grid) /* uniform grid (Thrane and Simonsen 2005), on the host: full */ \
   X(LT_STRUCTURE_KDTREE, kdtree) /* binned SAH kd-tree through the task pool: full or on demand */ \
   X(LT_STRUCTURE_IRGRID, irgrid) /* irregular grid through the task pool: full or top cells on demand */ \
-  X(LT_STRUCTURE_QBVH, qbvh) /* SAH BVH collapsed to a 4-ary tree (Bogolepov and Ulyanov), on the host: full */
+  X(LT_STRUCTURE_QBVH, qbvh) /* SAH BVH collapsed to a 4-ary tree (Bogolepov and Ulyanov), on the host: full */ \
+  X(LT_STRUCTURE_ESCAPE_BVH, escape_bvh) /* SAH BVH with escape indices, stackless (Thrane and Simonsen), on the host: full */
 
 typedef enum {
 #define LT_STRUCTURE_ENUM(kind, entry) kind,
