@@ -5,6 +5,7 @@
 #define LT_ESCAPE_BVH_H
 
 #include "builders/host/bvh_sah.h"
+#include "builders/host/bvh_thesis.h"
 #include "device/escape_bvh_node.h"
 
 typedef struct lt__escape_bvh {
@@ -19,6 +20,10 @@ typedef struct lt__escape_bvh {
  * that meets any child meets, is left out); empty children are left out. The leaves point into
  * bvh->tris, which stay where they are. LT_ERROR_OUT_OF_MEMORY on allocation. */
 lt_status lt__escape_bvh_from_bvh(const lt__bvh *bvh, lt__escape_bvh *out);
+/* Lays out a tree of any number of children a node (builders/host/bvh_thesis.h) the same way
+ * (the root's children first) and copies its triangles (9 floats each) into leaf order
+ * (*tris_out, 16-byte aligned, each carrying its number). LT_ERROR_OUT_OF_MEMORY on allocation. */
+lt_status lt__escape_bvh_from_tree(const lt__tree *tree, const float *tris, lt__escape_bvh *out, lt_tri **tris_out);
 void lt__escape_bvh_free(lt__escape_bvh *e);
 
 #endif
