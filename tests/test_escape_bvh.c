@@ -1,7 +1,7 @@
 /* The escape-index BVH (device/escape_bvh_node.h): the layout (every triangle once, exact
  * boxes, depth-first order, each escape the first node after its subtree), the stackless
- * traversal on the host, and closest and any hits against the brute-force reference on both
- * backends, on the generators and on closed meshes that must not leak. LT_TEST_QUICK (the
+ * traversal on the host, the thesis' Kay-Kajiya and Goldsmith-Salmon builders, and closest and
+ * any hits against the brute-force reference on both backends, with every builder, on the generators and on closed meshes that must not leak. LT_TEST_QUICK (the
  * sanitizers) runs the small scenes only. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -23,7 +23,8 @@
 
 typedef struct walk {
   const lt__escape_bvh *e;
-  const lt__bvh *bvh;
+  const lt_tri *tris;
+  int tri_count, max_children; /* 2 for a binary tree; any number for Goldsmith-Salmon's */
   char *seen_tri;
   int leaves, max_depth;
 } walk;
@@ -38,11 +39,11 @@ static int walk_node(walk *w, int at, int depth, lt_box *bounds) {
   int end;
   if (n->count > 0) {
     /* A leaf: triangles seen once; what follows it is the next node. */
-    assert_true(n->link >= 0 && n->link + n->count <= w->bvh->tri_count);
+    assert_true(n->link >= 0 && n->link + n->count <= w->tri_count);
     for (int i = n->link; i < n->link + n->count; i++) {
       assert_false(w->seen_tri[i]);
       w->seen_tri[i] = 1;
-      const lt_tri *t = &w->bvh->tris[i];
+      const lt_tri *t = &w->tris[i];
       float v[9] = {t->v0.x, t->v0.y, t->v0.z, t->v1.x, t->v1.y, t->v1.z, t->v2.x, t->v2.y, t->v2.z};
       for (int c = 0; c < 3; c++) {
         lt_box p = {{v[3 * c], v[3 * c + 1], v[3 * c + 2]}, {v[3 * c], v[3 * c + 1], v[3 * c + 2]}};
@@ -62,7 +63,7 @@ static int walk_node(walk *w, int at, int depth, lt_box *bounds) {
       lt_box_grow(&exact, &child);
     }
     assert_int_equal(end, n->link);
-    assert_true(children >= 1 && children <= 2);
+    assert_true(children >= 1 && children <= w->max_children);
   }
   lt_box stored = {{n->lo[0], n->lo[1], n->lo[2]}, {n->hi[0], n->hi[1], n->hi[2]}};
   assert_memory_equal(&stored, &exact, sizeof stored);
@@ -70,23 +71,28 @@ static int walk_node(walk *w, int at, int depth, lt_box *bounds) {
   return end;
 }
 
-/* Checks the layout against its binary tree; fails on the first flaw. */
-static void check_layout(const lt__escape_bvh *e, const lt__bvh *bvh) {
-  walk w = {e, bvh, calloc((size_t)bvh->tri_count + 1, 1), 0, 0};
+/* Checks a layout over `tri_count` triangles in leaf order; fails on the first flaw. */
+static void check_tree_layout(const lt__escape_bvh *e, const lt_tri *tris, int tri_count, int max_children) {
+  walk w = {e, tris, tri_count, max_children, calloc((size_t)tri_count + 1, 1), 0, 0};
   assert_non_null(w.seen_tri);
   int tops = 0;
   for (int at = 0; at < e->node_count; tops++) {
     lt_box b;
     at = walk_node(&w, at, 1, &b);
   }
-  assert_true(tops >= 1 && tops <= 2);
-  for (int i = 0; i < bvh->tri_count; i++) assert_true(w.seen_tri[i]);
-  assert_int_equal(w.leaves, bvh->leaf_count);
+  assert_true(tops >= 1 && tops <= max_children);
+  for (int i = 0; i < tri_count; i++) assert_true(w.seen_tri[i]);
   assert_int_equal(w.leaves, e->leaf_count);
   assert_int_equal(w.max_depth, e->max_depth);
+  free(w.seen_tri);
+}
+
+/* Checks the layout against its binary tree. */
+static void check_layout(const lt__escape_bvh *e, const lt__bvh *bvh) {
+  check_tree_layout(e, bvh->tris, bvh->tri_count, 2);
+  assert_int_equal(e->leaf_count, bvh->leaf_count);
   /* Every binary node's children, the root left out: 2 * inner - 1 nodes at most. */
   assert_true(e->node_count <= 2 * bvh->node_count);
-  free(w.seen_tri);
 }
 
 static void build(const lt_scene *scene, lt__bvh *bvh, lt__escape_bvh *e) {
@@ -126,6 +132,41 @@ static void escape_layout_keeps_every_triangle_and_exact_boxes(void **state) {
             (size_t)e.node_count * sizeof(lt_escape_node));
     lt__escape_bvh_free(&e);
     lt__bvh_free(&bvh);
+    lt_scene_destroy(scene);
+  }
+}
+
+/* The thesis' builders: Kay-Kajiya binary with one triangle a leaf (unless centroids
+ * coincide), Goldsmith-Salmon of any number of children, the same tree from the same seed and a
+ * cost no worse than one order's; both laid out complete and exact. */
+static void escape_thesis_builders_make_complete_exact_trees(void **state) {
+  (void)state;
+  static const char *const specs[] = {"sphere:3", "cornell", "hairball:300"};
+  for (size_t s = 0; s < sizeof specs / sizeof specs[0]; s++) {
+    lt_scene *scene;
+    assert_int_equal(lt_scene_load(specs[s], &scene), LT_OK);
+    const float *tris = lt_scene_triangles(scene);
+    size_t n = lt_scene_triangle_count(scene);
+    lt__tree kk, gs, again, one;
+    assert_int_equal(lt__tree_build_kay_kajiya(tris, n, &kk), LT_OK);
+    assert_int_equal(lt__tree_build_goldsmith_salmon(tris, n, 15, 7, &gs), LT_OK);
+    assert_int_equal(lt__tree_build_goldsmith_salmon(tris, n, 15, 7, &again), LT_OK);
+    assert_int_equal(lt__tree_build_goldsmith_salmon(tris, n, 1, 7, &one), LT_OK);
+    assert_int_equal(gs.node_count, again.node_count);
+    assert_true(gs.cost == again.cost);
+    assert_true(gs.cost <= one.cost);
+    const lt__tree *trees[2] = {&kk, &gs};
+    for (int t = 0; t < 2; t++) {
+      lt__escape_bvh e;
+      lt_tri *copy;
+      assert_int_equal(lt__escape_bvh_from_tree(trees[t], tris, &e, &copy), LT_OK);
+      check_tree_layout(&e, copy, (int)n, t == 0 ? 2 : 1 << 30);
+      fprintf(stderr, "%s: %s %d nodes depth %d cost %.1f\n", specs[s], t ? "Goldsmith-Salmon" : "Kay-Kajiya",
+              e.node_count, e.max_depth, trees[t]->cost);
+      lt__escape_bvh_free(&e);
+      free(copy);
+    }
+    lt__tree_free(&kk), lt__tree_free(&gs), lt__tree_free(&again), lt__tree_free(&one);
     lt_scene_destroy(scene);
   }
 }
@@ -192,7 +233,8 @@ static void escape_traversal_visits_each_node_at_most_once(void **state) {
 /* ---- Against the reference, through the library, on both backends ---- */
 
 /* Closest hits bitwise and occlusion against the reference on every backend; returns the hits. */
-static size_t check_scene(const char *what, const lt_scene *scene, const lt_ray *rays, size_t n) {
+/* `thesis`: the Kay-Kajiya and Goldsmith-Salmon builders too, not only the SAH one. */
+static size_t check_scene(const char *what, const lt_scene *scene, const lt_ray *rays, size_t n, int thesis) {
   lt_hit *ref = malloc(n * sizeof *ref), *ref_any = malloc(n * sizeof *ref_any);
   assert_non_null(ref);
   assert_non_null(ref_any);
@@ -200,10 +242,13 @@ static size_t check_scene(const char *what, const lt_scene *scene, const lt_ray 
   assert_int_equal(lt_reference_trace(scene, rays, n, LT_QUERY_ANY, ref_any), LT_OK);
   lt_structure_config sc = lt_structure_config_default(LT_STRUCTURE_ESCAPE_BVH);
   int backends = 1 + lt_test_opencl_available();
-  for (int b = 0; b < backends; b++) {
+  int last = thesis ? LT_BVH_BUILDER_GOLDSMITH_SALMON : LT_BVH_BUILDER_SAH;
+  for (int k = 0; k < (last - LT_BVH_BUILDER_SAH + 1) * backends; k++) {
+    int builder = LT_BVH_BUILDER_SAH + k / backends, b = k % backends;
+    sc.bvh_builder = builder;
     lt_test_launch l = {b ? LT_DEVICE_OPENCL : LT_DEVICE_NATIVE, 0, 0};
     char label[160];
-    snprintf(label, sizeof label, "%s on %s", what, b ? "OpenCL" : "native");
+    snprintf(label, sizeof label, "%s (builder %d) on %s", what, builder, b ? "OpenCL" : "native");
     lt_hit *hits = lt_test_trace_with(scene, &l, &sc, rays, n, LT_QUERY_CLOSEST, NULL);
     assert_non_null(hits);
     assert_int_equal(lt_test_count_mismatches(label, hits, ref, n), 0);
@@ -235,7 +280,7 @@ static void escape_matches_reference_on_generators(void **state) {
     lt_test_camera_rays(scene, "outer", side, side, rays);
     lt_test_camera_rays(scene, "close", side, side, rays + side * side);
     lt_test_random_rays(scene, 5 + s, random, rays + 2 * side * side);
-    size_t hits = check_scene(specs[s], scene, rays, n);
+    size_t hits = check_scene(specs[s], scene, rays, n, s < 3); /* the thesis' builders on the small ones */
     assert_true(hits > n / 10);
     fprintf(stderr, "%s: %zu rays, %zu hits match the reference\n", specs[s], n, hits);
     free(rays);
@@ -256,7 +301,7 @@ static void escape_closed_meshes_never_leak(void **state) {
   assert_non_null(rays);
   for (int m = 0; m < 4; m++) {
     size_t count = lt_hc_closed_rays(&meshes[m], 17, n, rays);
-    check_scene(names[m], meshes[m].scene, rays, count);
+    check_scene(names[m], meshes[m].scene, rays, count, 1);
     lt_test_launch l = {LT_DEVICE_NATIVE, 0, 0};
     lt_structure_config sc = lt_structure_config_default(LT_STRUCTURE_ESCAPE_BVH);
     lt_hit *hits = lt_test_trace_with(meshes[m].scene, &l, &sc, rays, count, LT_QUERY_CLOSEST, NULL);
@@ -312,6 +357,7 @@ static void escape_statistics_describe_the_arrays(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(escape_layout_keeps_every_triangle_and_exact_boxes),
+      cmocka_unit_test(escape_thesis_builders_make_complete_exact_trees),
       cmocka_unit_test(escape_single_triangle),
       cmocka_unit_test(escape_traversal_visits_each_node_at_most_once),
       cmocka_unit_test(escape_matches_reference_on_generators),
