@@ -16,8 +16,11 @@ QBVH:--structure qbvh
 escape-index BVH, SAH builder:--structure escape-bvh
 escape-index BVH, Kay-Kajiya:--structure escape-bvh --builder kay-kajiya
 escape-index BVH, Goldsmith-Salmon:--structure escape-bvh --builder goldsmith-salmon"}
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+# KEEP=DIR keeps the runs' statistics there (and makes the table again from them with RUNS=0).
+T=${KEEP:-$(mktemp -d)}
+[ -n "${KEEP:-}" ] && mkdir -p "$T" || trap 'rm -rf "$T"' EXIT
+table_runs=$runs
+[ "${RUNS:-}" = 0 ] && runs=0
 # Every run goes once through every scene, backend and method, one after the other.
 for run in $(seq "$runs"); do
   for scene in $scenes; do
@@ -32,7 +35,7 @@ for run in $(seq "$runs"); do
     done
   done
 done
-table=$(python3 - "$T" "$runs" "$scenes" "$methods" <<'PY'
+table=$(python3 - "$T" "$table_runs" "$scenes" "$methods" <<'PY'
 import json, statistics, sys
 tmp, runs, scenes, methods = sys.argv[1], int(sys.argv[2]), sys.argv[3].split(), sys.argv[4].splitlines()
 for scene in scenes:
@@ -45,18 +48,19 @@ for scene in scenes:
             med = lambda k: statistics.median(s[k] for s in st)
             mrays = statistics.median(s["rays"] / s["trace_ms"] / 1000.0 for s in st)
             s = st[0]
+            num = lambda k, scale=1, digits=0: "n/a" if s.get(k) is None else f"{s[k] / scale:.{digits}f}"
             print(f"| {line.split(':')[0]} | {device} | {med('build_ms'):.0f} | {mrays:.2f} | "
-                  f"{s['memory_bytes'] / 2**20:.1f} | {s['nodes_built']:.0f} | {s['node_bytes']:.0f} | {s['max_depth']:.0f} |")
+                  f"{num('memory_bytes', 2**20, 1)} | {num('nodes_built')} | {num('node_bytes')} | {num('max_depth')} |")
     print()
 PY
 )
 {
   echo "# The thesis' BVH family against the SAH BVH and the QBVH"
   echo
-  lt_results_header "benchmarks/thesis_bvh.sh $runs"
+  lt_results_header "benchmarks/thesis_bvh.sh $table_runs"
   echo "- the machine is shared with other work: timings vary from run to run by several percent"
   echo "- primary rays of the outer camera, 512x512, one sample; Mrays/s from trace_ms of the statistics (build and"
-  echo "  kernel compile excluded); build ms is the structure's build_ms; medians of $runs runs, interleaved (each run"
+  echo "  kernel compile excluded); build ms is the structure's build_ms; medians of $table_runs runs, interleaved (each run"
   echo "  goes once through every scene, backend and method); memory is memory_bytes (nodes and triangle references)"
   echo
   echo "$table"
