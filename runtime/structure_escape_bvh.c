@@ -1,8 +1,8 @@
 /* The registry entry of the escape-index BVH (Thrane and Simonsen 2005): a BVH built on the host
- * (the binned SAH builder, builders/host/bvh_sah.c, or the thesis' Kay-Kajiya and Goldsmith-
- * Salmon builders, builders/host/bvh_thesis.c: --builder) laid out in depth-first order with escape indices
- * (builders/host/escape_bvh.c) and traced without a stack (kernels/escape_bvh_trace.h). A
- * reference to compare against, not a default. Full build only. */
+ * (--builder: the binned SAH builder, builders/host/bvh_sah.c, or the thesis' Kay-Kajiya and
+ * Goldsmith-Salmon builders, builders/host/bvh_thesis.c) laid out in depth-first order with
+ * escape indices (builders/host/escape_bvh.c) and traced without a stack
+ * (kernels/escape_bvh_trace.h). A reference to compare against, not a default. Full build only. */
 #include <stdlib.h>
 #include <string.h>
 
