@@ -114,8 +114,8 @@ static const lt__param params[] = {
 
 const lt__structure_class lt__structure_escape_bvh = {
     .name = "escape-bvh",
-    .summary = "SAH (or Kay-Kajiya, Goldsmith-Salmon) BVH in depth-first order with escape indices (Thrane and Simonsen), traced without a stack, "
-               "built on the host: full",
+    .summary = "SAH (or Kay-Kajiya, Goldsmith-Salmon) BVH in depth-first order with escape indices (Thrane and "
+               "Simonsen), traced without a stack, built on the host: full",
     .params = params,
     .modes = 1u << LT_BUILD_FULL,
     .defaults = {.kind = LT_STRUCTURE_ESCAPE_BVH, .build = LT_BUILD_FULL, .max_leaf_size = 16, .sah_bins = 32,

@@ -1,8 +1,9 @@
 /* The escape-index BVH (device/escape_bvh_node.h): the layout (every triangle once, exact
  * boxes, depth-first order, each escape the first node after its subtree), the stackless
  * traversal on the host, the thesis' Kay-Kajiya and Goldsmith-Salmon builders, and closest and
- * any hits against the brute-force reference on both backends, with every builder, on the generators and on closed meshes that must not leak. LT_TEST_QUICK (the
- * sanitizers) runs the small scenes only. */
+ * any hits against the brute-force reference on both backends, with every builder, on the
+ * generators and on closed meshes that must not leak. LT_TEST_QUICK (the sanitizers) runs the
+ * small scenes only. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>

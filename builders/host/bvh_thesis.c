@@ -96,7 +96,8 @@ static int kk_build(kk *b, int begin, int end, int depth) {
       axis = longest_axis(&centroids);
       split = partition(b, begin, end, axis, 0.5f * (centroids.lo[axis] + centroids.hi[axis]));
     }
-    if (split == begin || split == end) split = centroids.hi[axis] > centroids.lo[axis] ? begin + (end - begin) / 2 : -1;
+    if (split == begin || split == end)
+      split = centroids.hi[axis] > centroids.lo[axis] ? begin + (end - begin) / 2 : -1;
   }
   if (split < 0) {
     t->nodes[at].first = begin, t->nodes[at].count = end - begin;
