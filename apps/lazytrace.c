@@ -93,7 +93,7 @@ static void print_usage(FILE *out) {
       p += len + (end != NULL);
     }
   }
-  fprintf(out, "  planned, refused for now: %s\n", lt_structure_planned());
+  if (*lt_structure_planned()) fprintf(out, "  planned, refused for now: %s\n", lt_structure_planned());
 }
 
 int main(int argc, char **argv) {

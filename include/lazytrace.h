@@ -206,7 +206,8 @@ lt_status lt_stats_write_json(const lt_stats *stats, FILE *out);
   X(LT_STRUCTURE_GRID, grid) /* uniform grid (Thrane and Simonsen 2005), on the host: full */ \
   X(LT_STRUCTURE_KDTREE, kdtree) /* binned SAH kd-tree through the task pool: full or on demand */ \
   X(LT_STRUCTURE_IRGRID, irgrid) /* irregular grid through the task pool: full or top cells on demand */ \
-  X(LT_STRUCTURE_QBVH, qbvh) /* SAH BVH collapsed to a 4-ary tree (Bogolepov and Ulyanov), on the host: full */
+  X(LT_STRUCTURE_QBVH, qbvh) /* SAH BVH collapsed to a 4-ary tree (Bogolepov and Ulyanov), on the host: full */ \
+  X(LT_STRUCTURE_ESCAPE_BVH, escape_bvh) /* SAH BVH with escape indices, stackless (Thrane and Simonsen), on the host: full */
 
 typedef enum {
 #define LT_STRUCTURE_ENUM(kind, entry) kind,
@@ -246,6 +247,7 @@ typedef struct lt_structure_config {
   float irgrid_merge_alpha;  /* irregular grid: merging stops when a pass merges fewer than
                                 1 - alpha of the cells; default 0.995 */
   int irgrid_expansion_passes; /* irregular grid: LT_IRGRID_PASSES(n) for n passes; default 3 */
+  int bvh_builder;             /* escape-index BVH: LT_BVH_BUILDER_*; default SAH */
 } lt_structure_config;
 
 /* The kd-tree's choices (0 in a config: the default). Traversal: front to back with a stack, or
@@ -263,6 +265,10 @@ enum { LT_KD_CLIP_OFF = 1, LT_KD_CLIP_ON };
 enum { LT_IRGRID_MERGE_ON = 1, LT_IRGRID_MERGE_OFF, LT_IRGRID_MERGE_TOP };
 #define LT_IRGRID_PASSES(n) ((n) + 1)
 #define LT_IRGRID_MAX_PASSES 8
+/* The escape-index BVH's builders (0 in a config: the default): the binned SAH BVH, or the two
+ * of Thrane and Simonsen's comparison, Kay-Kajiya (spatial median of the longest axis) and
+ * Goldsmith-Salmon (insertion by surface-area cost, best of 15 shuffled orders, fixed seed). */
+enum { LT_BVH_BUILDER_SAH = 1, LT_BVH_BUILDER_KAY_KAJIYA, LT_BVH_BUILDER_GOLDSMITH_SALMON };
 
 /* The defaults of a structure, every field filled in. */
 lt_structure_config lt_structure_config_default(lt_structure_kind kind);

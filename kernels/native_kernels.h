@@ -31,5 +31,7 @@ void lt__native_irgrid_ondemand_kernel(void *arg);
 void lt__native_irgrid_trace_kernel(void *arg);
 /* kernels/native_qbvh_trace.c: arg is an lt__native_trace_launch over an lt_qbvh_trace_view. */
 void lt__native_qbvh_trace_kernel(void *arg);
+/* kernels/native_escape_bvh_trace.c: arg is an lt__native_trace_launch over an lt_escape_bvh_trace_view. */
+void lt__native_escape_bvh_trace_kernel(void *arg);
 
 #endif

@@ -9,3 +9,4 @@
 #include "kernels/irgrid_ondemand.cl"
 #include "kernels/irgrid_trace.cl"
 #include "kernels/qbvh_trace.cl"
+#include "kernels/escape_bvh_trace.cl"

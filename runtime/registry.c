@@ -15,8 +15,9 @@ static const lt__structure_class *const classes[LT_STRUCTURE_COUNT] = {
 #undef LT__STRUCTURE_ENTRY
 };
 
-/* Names a user may give that later issues implement; each is refused with a clear message. */
-static const char planned[] = "escape-bvh";
+/* Names a user may give that later issues implement, separated by commas (none at present);
+ * each is refused with a clear message. */
+static const char planned[] = "";
 
 static const char *const build_names[] = {"default", "full", "requested", "speculative"};
 
@@ -56,8 +57,8 @@ lt_status lt_structure_kind_parse(const char *name, lt_structure_kind *out) {
     if (strcmp(name, classes[k]->name) == 0) return *out = (lt_structure_kind)k, LT_OK;
   if (listed(planned, name))
     return lt__fail(LT_ERROR_UNSUPPORTED, "--structure %s is not implemented yet (available: %s)", name, known_names());
-  return lt__fail(LT_ERROR_INVALID_ARGUMENT, "unknown structure '%s' (known: %s; planned: %s)", name, known_names(),
-                  planned);
+  return lt__fail(LT_ERROR_INVALID_ARGUMENT, "unknown structure '%s' (known: %s%s%s)", name, known_names(),
+                  planned[0] ? "; planned: " : "", planned);
 }
 
 const char *lt_structure_kind_name(lt_structure_kind kind) {

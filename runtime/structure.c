@@ -41,6 +41,7 @@ static lt_structure_config resolve(const lt_structure_config *config, const lt__
   if (c.irgrid_merge <= 0) c.irgrid_merge = d.irgrid_merge;
   if (c.irgrid_merge_alpha <= 0) c.irgrid_merge_alpha = d.irgrid_merge_alpha;
   if (c.irgrid_expansion_passes <= 0) c.irgrid_expansion_passes = d.irgrid_expansion_passes;
+  if (c.bvh_builder <= 0) c.bvh_builder = d.bvh_builder;
   return c;
 }
 
@@ -105,6 +106,9 @@ lt_status lt_structure_create(lt_context *ctx, const lt_scene *scene, const lt_s
                     "each must be 0 for the default or a positive finite value",
                     config->max_leaf_size, config->sah_bins, config->pool_capacity, (double)config->traversal_cost,
                     (double)config->grid_density);
+  if ((unsigned)config->bvh_builder > LT_BVH_BUILDER_GOLDSMITH_SALMON)
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT, "bad BVH builder %d: see LT_BVH_BUILDER_* in lazytrace.h",
+                    config->bvh_builder);
   if ((unsigned)config->kd_traversal > LT_KD_TRAVERSAL_BACKTRACK || (unsigned)config->kd_split > LT_KD_SPLIT_SWEEP ||
       (unsigned)config->kd_clip > LT_KD_CLIP_ON)
     return lt__fail(LT_ERROR_INVALID_ARGUMENT, "bad kd-tree choice (traversal %d, split %d, clip %d): see LT_KD_* in lazytrace.h",

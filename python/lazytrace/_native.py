@@ -29,7 +29,8 @@ class StructureConfig(ctypes.Structure):
                 ("grid_density", c_float), ("kd_traversal", c_int), ("kd_split", c_int),
                 ("kd_clip", c_int), ("irgrid_top_density", c_float),
                 ("irgrid_cell_density", c_float), ("irgrid_merge", c_int),
-                ("irgrid_merge_alpha", c_float), ("irgrid_expansion_passes", c_int)]
+                ("irgrid_merge_alpha", c_float), ("irgrid_expansion_passes", c_int),
+                ("bvh_builder", c_int)]
 
 
 def _candidates():
