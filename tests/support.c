@@ -106,3 +106,32 @@ lt_hit *lt_test_trace_with(const lt_scene *scene, const lt_test_launch *l, const
   lt_context_destroy(ctx);
   return hits;
 }
+
+size_t lt_test_backend_mismatches(const char *what, const lt_scene *scene, const lt_structure_config *sc,
+                                  const lt_ray *rays, size_t n, const lt_hit *ref, const lt_hit *ref_any) {
+  size_t mismatches = 0;
+  for (int b = 0; b < 1 + lt_test_opencl_available(); b++) {
+    lt_test_launch l = {b ? LT_DEVICE_OPENCL : LT_DEVICE_NATIVE, 0, 0};
+    char label[160];
+    snprintf(label, sizeof label, "%s on %s", what, b ? "OpenCL" : "native");
+    for (int query = LT_QUERY_CLOSEST; query <= LT_QUERY_ANY; query++) {
+      lt_hit *hits = lt_test_trace_with(scene, &l, sc, rays, n, query, NULL);
+      if (!hits) return (size_t)-1;
+      mismatches += query == LT_QUERY_CLOSEST ? lt_test_count_mismatches(label, hits, ref, n)
+                                              : lt_test_count_occlusion_mismatches(hits, ref_any, n);
+      free(hits);
+    }
+  }
+  return mismatches;
+}
+
+lt_ray *lt_test_generator_rays(const lt_scene *scene, int side, size_t random, uint64_t seed, size_t *n) {
+  size_t square = (size_t)side * side;
+  *n = 2 * square + random;
+  lt_ray *rays = malloc(*n * sizeof *rays);
+  if (!rays) return NULL;
+  lt_test_camera_rays(scene, "outer", side, side, rays);
+  lt_test_camera_rays(scene, "close", side, side, rays + square);
+  lt_test_random_rays(scene, seed, random, rays + 2 * square);
+  return rays;
+}

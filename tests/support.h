@@ -31,6 +31,14 @@ typedef struct lt_test_launch {
  * why on stderr) when anything fails. Statistics go to stats (may be NULL). */
 lt_hit *lt_test_trace_with(const lt_scene *scene, const lt_test_launch *l, const lt_structure_config *sc,
                            const lt_ray *rays, size_t n, int query, lt_stats *stats);
+/* Traces the rays through a structure of config sc on every backend (native, and OpenCL where
+ * there is one), closest hit and any hit, against ref and ref_any (the reference's answers to
+ * the same rays): the mismatches over all of them, (size_t)-1 when a create or trace fails. */
+size_t lt_test_backend_mismatches(const char *what, const lt_scene *scene, const lt_structure_config *sc,
+                                  const lt_ray *rays, size_t n, const lt_hit *ref, const lt_hit *ref_any);
+/* The rays of the generator tests: side x side from the outer camera, as many from the close
+ * one, then `random` random rays of the given seed; *n says how many in all. */
+lt_ray *lt_test_generator_rays(const lt_scene *scene, int side, size_t random, uint64_t seed, size_t *n);
 /* A structure of `kind` started with a pool of 2 slots, which fills at once, in every build
  * mode it has, on 500 random rays over sphere:5: the closest hits that differ from brute
  * force's after its retries, summed over the modes; (size_t)-1 when a create or trace fails. */

@@ -264,20 +264,7 @@ static size_t check_scene(const char *what, const lt_scene *scene, const lt_ray 
   assert_int_equal(lt_reference_trace(scene, rays, n, LT_QUERY_CLOSEST, ref), LT_OK);
   assert_int_equal(lt_reference_trace(scene, rays, n, LT_QUERY_ANY, ref_any), LT_OK);
   lt_structure_config sc = lt_structure_config_default(LT_STRUCTURE_QBVH);
-  int backends = 1 + lt_test_opencl_available();
-  for (int b = 0; b < backends; b++) {
-    lt_test_launch l = {b ? LT_DEVICE_OPENCL : LT_DEVICE_NATIVE, 0, 0};
-    char label[160];
-    snprintf(label, sizeof label, "%s on %s", what, b ? "OpenCL" : "native");
-    lt_hit *hits = lt_test_trace_with(scene, &l, &sc, rays, n, LT_QUERY_CLOSEST, NULL);
-    assert_non_null(hits);
-    assert_int_equal(lt_test_count_mismatches(label, hits, ref, n), 0);
-    free(hits);
-    hits = lt_test_trace_with(scene, &l, &sc, rays, n, LT_QUERY_ANY, NULL);
-    assert_non_null(hits);
-    assert_int_equal(lt_test_count_occlusion_mismatches(hits, ref_any, n), 0);
-    free(hits);
-  }
+  assert_int_equal(lt_test_backend_mismatches(what, scene, &sc, rays, n, ref, ref_any), 0);
   size_t hit = 0;
   for (size_t i = 0; i < n; i++) hit += ref[i].prim >= 0;
   free(ref), free(ref_any);
@@ -294,12 +281,9 @@ static void qbvh_matches_reference_on_generators(void **state) {
   for (size_t s = 0; s < count; s++) {
     lt_scene *scene;
     assert_int_equal(lt_scene_load(specs[s], &scene), LT_OK);
-    size_t n = 2 * (size_t)side * side + random;
-    lt_ray *rays = malloc(n * sizeof *rays);
+    size_t n;
+    lt_ray *rays = lt_test_generator_rays(scene, side, random, 5 + s, &n);
     assert_non_null(rays);
-    lt_test_camera_rays(scene, "outer", side, side, rays);
-    lt_test_camera_rays(scene, "close", side, side, rays + side * side);
-    lt_test_random_rays(scene, 5 + s, random, rays + 2 * side * side);
     size_t hits = check_scene(specs[s], scene, rays, n);
     assert_true(hits > n / 10);
     fprintf(stderr, "%s: %zu rays, %zu hits match the reference\n", specs[s], n, hits);
@@ -362,19 +346,15 @@ static void qbvh_statistics_describe_the_arrays(void **state) {
   (void)state;
   lt_scene *scene;
   assert_int_equal(lt_scene_load("hairball:300", &scene), LT_OK);
-  lt_context *ctx;
-  lt_context_config cc = {LT_DEVICE_NATIVE, 0, 0, 0, 1};
-  assert_int_equal(lt_context_create(&cc, &ctx), LT_OK);
   lt_structure_config sc = lt_structure_config_default(LT_STRUCTURE_QBVH);
   lt_stats *stats;
   assert_int_equal(lt_stats_create(&stats), LT_OK);
-  lt_structure *s;
-  assert_int_equal(lt_structure_create(ctx, scene, &sc, stats, &s), LT_OK);
   lt_ray rays[64];
-  lt_hit hits[64];
   lt_test_random_rays(scene, 3, 64, rays);
-  assert_int_equal(lt_structure_trace(s, rays, 64, LT_QUERY_CLOSEST, hits, stats), LT_OK);
-  lt_structure_destroy(s);
+  lt_test_launch native = {LT_DEVICE_NATIVE, 0, 0};
+  lt_hit *hits = lt_test_trace_with(scene, &native, &sc, rays, 64, LT_QUERY_CLOSEST, stats);
+  assert_non_null(hits);
+  free(hits);
 
   lt__bvh bvh;
   lt__qbvh q;
@@ -389,7 +369,6 @@ static void qbvh_statistics_describe_the_arrays(void **state) {
   lt__qbvh_free(&q);
   lt__bvh_free(&bvh);
   lt_stats_destroy(stats);
-  lt_context_destroy(ctx);
   lt_scene_destroy(scene);
 }
 

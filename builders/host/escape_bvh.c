@@ -29,6 +29,14 @@ static void emit(const lt__bvh *bvh, int node, int side, int depth, lt__escape_b
   out->nodes[at].link = out->node_count, out->nodes[at].count = 0;
 }
 
+/* No triangles: one inner node that no ray enters. */
+static void one_empty_node(lt__escape_bvh *out) {
+  float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  write_box(&out->nodes[0], lo, hi);
+  out->nodes[0].link = 1, out->nodes[0].count = 0;
+  out->node_count = 1;
+}
+
 lt_status lt__escape_bvh_from_bvh(const lt__bvh *bvh, lt__escape_bvh *out) {
   memset(out, 0, sizeof *out);
   /* Every binary node has at most two children, and a top node more. */
@@ -39,13 +47,7 @@ lt_status lt__escape_bvh_from_bvh(const lt__bvh *bvh, lt__escape_bvh *out) {
     emit(bvh, 0, 0, 1, out);
     emit(bvh, 0, 1, 1, out);
   }
-  if (out->node_count == 0) {
-    /* No triangles: one inner node that no ray enters. */
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    write_box(&out->nodes[0], lo, hi);
-    out->nodes[0].link = 1, out->nodes[0].count = 0;
-    out->node_count = 1;
-  }
+  if (out->node_count == 0) one_empty_node(out);
   return LT_OK;
 }
 
@@ -98,12 +100,7 @@ lt_status lt__escape_bvh_from_tree(const lt__tree *tree, const float *tris, lt__
     if (parent[i] >= 0) size[parent[i]] += size[i];
   }
   free(parent), free(size), free(stack);
-  if (out->node_count == 0) {
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    write_box(&out->nodes[0], lo, hi);
-    out->nodes[0].link = 1, out->nodes[0].count = 0;
-    out->node_count = 1;
-  }
+  if (out->node_count == 0) one_empty_node(out);
   *tris_out = copy;
   return LT_OK;
 }
