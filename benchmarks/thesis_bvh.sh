@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# The thesis' BVH family (Thrane and Simonsen 2005; issue 16) against the SAH BVH and the QBVH:
-# build time, primary-ray speed (512x512, outer camera) and memory, on both backends, medians
-# of interleaved runs, written to docs/results/thesis_bvh.md.
+# The thesis' comparison (Thrane and Simonsen 2005; issue 16): the uniform grid, the kd-tree with
+# its three traversals (stack, restart, backtrack), the escape-index BVH from the SAH,
+# Kay-Kajiya and Goldsmith-Salmon builders, the SAH BVH and the QBVH: build time, primary-ray
+# speed (512x512, outer camera) and memory, on both backends, medians of interleaved runs,
+# written to docs/results/thesis_bvh.md.
 #   benchmarks/thesis_bvh.sh [RUNS]        (default 3)
 # SCENES and METHODS (one method a line: a label, a colon, the structure options) override the
 # defaults.
@@ -11,7 +13,11 @@ cd "$(dirname "$0")/.."
 lt_bench_prepare
 runs=${1:-3}
 scenes=${SCENES:-"house-grid:3x3 sphere:6"}
-methods=${METHODS:-"SAH BVH (full build):--structure bvh --build full
+methods=${METHODS:-"uniform grid:--structure grid
+kd-tree, stack traversal:--structure kdtree --build full
+kd-tree, restart (stackless):--structure kdtree --build full --traversal restart
+kd-tree, backtrack (stackless):--structure kdtree --build full --traversal backtrack
+SAH BVH (full build):--structure bvh --build full
 QBVH:--structure qbvh
 escape-index BVH, SAH builder:--structure escape-bvh
 escape-index BVH, Kay-Kajiya:--structure escape-bvh --builder kay-kajiya
@@ -55,13 +61,16 @@ for scene in scenes:
 PY
 )
 {
-  echo "# The thesis' BVH family against the SAH BVH and the QBVH"
+  echo "# The thesis' comparison: uniform grid, kd-tree traversals, the BVH family, SAH BVH and QBVH"
   echo
   lt_results_header "benchmarks/thesis_bvh.sh $table_runs"
-  echo "- the machine is shared with other work: timings vary from run to run by several percent"
+  echo "- the machine was shared with other engineers' builds and tests while this ran: single timings move by"
+  echo "  10-30% from run to run, so compare the ratios within a run rather than figures across tables"
   echo "- primary rays of the outer camera, 512x512, one sample; Mrays/s from trace_ms of the statistics (build and"
   echo "  kernel compile excluded); build ms is the structure's build_ms; medians of $table_runs runs, interleaved (each run"
-  echo "  goes once through every scene, backend and method); memory is memory_bytes (nodes and triangle references)"
+  echo "  goes once through every scene, backend and method); memory is memory_bytes (nodes or cells and triangle references;"
+  echo "  the kd-tree's also its parent links, node cells, task pool and triangle boxes); depth: the deepest"
+  echo "  the tree can be (the stack a traversal may need; the uniform grid has none)"
   echo
   echo "$table"
 } >"$R/thesis_bvh.md"
