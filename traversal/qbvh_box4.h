@@ -55,6 +55,26 @@ LT_DEVICE int lt_qbvh_le_mask(lt_v4 a, lt_v4 b) {
 LT_DEVICE void lt_qbvh_store4(lt_v4 v, float out[4]) { memcpy(out, &v, sizeof v); }
 #endif
 
+/* One bit per lane that holds a child (count != 0): empty lanes have empty boxes, which the
+ * slab arithmetic does not reject by itself. */
+#ifdef __OPENCL_VERSION__
+LT_DEVICE int lt_qbvh_child_lanes(LT_GLOBAL const lt_qbvh_node *n) {
+  int4 m = vload4(0, n->count) != (int4)(0);
+  return (m.x & 1) | (m.y & 2) | (m.z & 4) | (m.w & 8);
+}
+#else
+LT_DEVICE int lt_qbvh_child_lanes(const lt_qbvh_node *n) {
+  lt_vi4 count;
+  memcpy(&count, n->count, sizeof count);
+  lt_vi4 empty = count == (lt_vi4){0, 0, 0, 0};
+#if defined(__SSE__)
+  return ~_mm_movemask_ps((__m128)empty) & 15;
+#else
+  return ~((empty[0] & 1) | (empty[1] & 2) | (empty[2] & 4) | (empty[3] & 8)) & 15;
+#endif
+}
+#endif
+
 /* The plain form: each lane through lt_ray_box. Returns one bit per lane whose box the ray
  * meets within [tmin, tmax] (pass the best hit so far as tmax) and those lanes' entry
  * distances in t_entry. */

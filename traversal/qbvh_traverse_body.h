@@ -29,10 +29,8 @@ LT_DEVICE int LT_QBVH_TRAVERSE_NAME(LT_GLOBAL const lt_qbvh_node *nodes, LT_GLOB
     c->traversal_steps++;
     LT_GLOBAL const lt_qbvh_node *n = &nodes[node];
     float t[4];
-    int mask = LT_QBVH_TRAVERSE_BOX4(r, &q, n, hit.prim >= 0 ? hit.t : r->tmax, t);
+    int mask = LT_QBVH_TRAVERSE_BOX4(r, &q, n, hit.prim >= 0 ? hit.t : r->tmax, t) & lt_qbvh_child_lanes(n);
     lt_i32 count[4] = {n->count[0], n->count[1], n->count[2], n->count[3]};
-    for (int lane = 0; lane < 4; lane++)
-      if (count[lane] == 0) mask &= ~(1 << lane);
 
     /* One lane or none, the common case of coherent rays: no sorting, no entry. */
     if ((mask & (mask - 1)) == 0) {
