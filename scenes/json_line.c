@@ -6,8 +6,9 @@
 
 #include "scenes/scene_internal.h"
 
+/* Whitespace as cJSON reads it: every control character and the space. */
 static const char *skip_space(const char *c) {
-  while (*c == ' ' || *c == '\t' || *c == '\n' || *c == '\r') c++;
+  while (*c && (unsigned char)*c <= 32) c++;
   return c;
 }
 
@@ -22,7 +23,7 @@ static const char *skip_string(const char *c) {
 static const char *skip_value(const char *c) {
   if (*c == '"') return skip_string(c);
   if (*c != '{' && *c != '[') {
-    while (*c && *c != ',' && *c != '}' && *c != ']' && *c != ' ' && *c != '\n' && *c != '\t' && *c != '\r') c++;
+    while ((unsigned char)*c > 32 && *c != ',' && *c != '}' && *c != ']') c++;
     return c;
   }
   int depth = 0;
@@ -40,7 +41,9 @@ static const char *member(const char *c, const char *name, size_t n) {
   for (c = skip_space(c + 1); *c == '"';) {
     const char *key = c + 1, *end = skip_string(c);
     int match = (size_t)(end - 1 - key) == n && strncmp(key, name, n) == 0;
-    c = skip_space(skip_space(end) + 1); /* past the colon */
+    c = skip_space(end);
+    if (*c != ':') return NULL;
+    c = skip_space(c + 1);
     if (match) return c;
     c = skip_space(skip_value(c));
     if (*c == ',') c = skip_space(c + 1);
