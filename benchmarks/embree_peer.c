@@ -44,7 +44,19 @@ static void *trace_range(void *p) {
   return NULL;
 }
 
+const char *lt_embree_quality_name(lt_embree_quality quality) {
+  return quality == LT_EMBREE_LOW ? "low" : quality == LT_EMBREE_HIGH ? "high" : "medium";
+}
+
+static enum RTCBuildQuality embree_quality(lt_embree_quality quality) {
+  return quality == LT_EMBREE_LOW ? RTC_BUILD_QUALITY_LOW : quality == LT_EMBREE_HIGH ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM;
+}
+
 lt_embree *lt_embree_build(const lt_scene *scene, int threads, double *build_ms) {
+  return lt_embree_build_quality(scene, threads, LT_EMBREE_MEDIUM, build_ms);
+}
+
+lt_embree *lt_embree_build_quality(const lt_scene *scene, int threads, lt_embree_quality quality, double *build_ms) {
   char config[64];
   snprintf(config, sizeof config, "threads=%d", threads);
   lt_embree *e = calloc(1, sizeof *e);
@@ -61,9 +73,12 @@ lt_embree *lt_embree_build(const lt_scene *scene, int threads, double *build_ms)
   if (!vertices || !indices) return rtcReleaseDevice(e->device), free(e), NULL;
   for (size_t i = 0; i < 9 * n; i++) vertices[i] = tris[i];
   for (size_t i = 0; i < 3 * n; i++) indices[i] = (unsigned)i;
+  /* The quality is set on both the geometry (its BVH over triangles) and the scene. */
+  rtcSetGeometryBuildQuality(geometry, embree_quality(quality));
   rtcCommitGeometry(geometry);
   e->scene = rtcNewScene(e->device);
   rtcSetSceneFlags(e->scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(e->scene, embree_quality(quality));
   rtcAttachGeometry(e->scene, geometry);
   rtcReleaseGeometry(geometry);
   rtcCommitScene(e->scene);
