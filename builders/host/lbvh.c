@@ -324,6 +324,7 @@ static void parallel_for(const lt__executor *ex, int items, void (*body)(void *c
 typedef struct lbvh_build {
   const float *tris;
   int n, chunks;
+  box *prim_box;        /* per triangle, in triangle order */
   box *chunk_centroids; /* bounds of the centroids of each chunk's triangles */
   box cbounds;          /* bounds of all centroids */
   float scale[3];       /* Morton cells per unit length along each axis */
@@ -340,25 +341,17 @@ static int chunk_end(const lbvh_build *w, int chunk) {
   return end < w->n ? (int)end : w->n;
 }
 
-/* A triangle's box, and twice its centroid: the box's centre, as the codes and the top use. */
-static box triangle_box(const float *t) {
-  box b;
-  for (int k = 0; k < 3; k++) {
-    b.lo[k] = min_f(t[k], min_f(t[3 + k], t[6 + k]));
-    b.hi[k] = max_f(t[k], max_f(t[3 + k], t[6 + k]));
-  }
-  return b;
-}
-
-/* The bounds of each chunk's triangle centroids. Boxes are not kept: the codes and the gather
- * into key order compute them again from the triangles, which costs less than the memory. */
-static void bounds_chunk(void *ctx, int chunk) {
+/* Triangle boxes, and the bounds of each chunk's centroids. */
+static void boxes_chunk(void *ctx, int chunk) {
   lbvh_build *w = ctx;
   box cb = box_empty();
   for (int i = chunk * CHUNK_TRIS; i < chunk_end(w, chunk); i++) {
-    box pb = triangle_box(w->tris + 9 * (size_t)i);
+    const float *t = w->tris + 9 * (size_t)i;
+    box *pb = &w->prim_box[i];
     for (int k = 0; k < 3; k++) {
-      float c = 0.5f * (pb.lo[k] + pb.hi[k]);
+      pb->lo[k] = min_f(t[k], min_f(t[3 + k], t[6 + k]));
+      pb->hi[k] = max_f(t[k], max_f(t[3 + k], t[6 + k]));
+      float c = 0.5f * (pb->lo[k] + pb->hi[k]);
       cb.lo[k] = c < cb.lo[k] ? c : cb.lo[k];
       cb.hi[k] = c > cb.hi[k] ? c : cb.hi[k];
     }
@@ -370,9 +363,9 @@ static void bounds_chunk(void *ctx, int chunk) {
 static void codes_chunk(void *ctx, int chunk) {
   lbvh_build *w = ctx;
   for (int i = chunk * CHUNK_TRIS; i < chunk_end(w, chunk); i++) {
-    box pb = triangle_box(w->tris + 9 * (size_t)i);
+    const box *pb = &w->prim_box[i];
     uint32_t q[3];
-    for (int k = 0; k < 3; k++) q[k] = quantize(0.5f * (pb.lo[k] + pb.hi[k]), w->cbounds.lo[k], w->scale[k]);
+    for (int k = 0; k < 3; k++) q[k] = quantize(0.5f * (pb->lo[k] + pb->hi[k]), w->cbounds.lo[k], w->scale[k]);
     uint32_t code = spread_bits(q[0]) << 2 | spread_bits(q[1]) << 1 | spread_bits(q[2]);
     w->keys[i] = (uint64_t)code << 32 | (uint32_t)i;
   }
@@ -427,7 +420,7 @@ static void radix_sort(lbvh_build *w, const lt__executor *ex, uint64_t *ops) {
 static void gather_chunk(void *ctx, int chunk) {
   lbvh_build *w = ctx;
   for (int i = chunk * CHUNK_TRIS; i < chunk_end(w, chunk); i++)
-    w->b.sorted_box[i] = triangle_box(w->tris + 9 * (size_t)(uint32_t)w->keys[i]);
+    w->b.sorted_box[i] = w->prim_box[(uint32_t)w->keys[i]];
 }
 
 static void cluster_bounds(void *ctx, int c) {
@@ -498,8 +491,8 @@ static void build_all(lbvh_build *w, const lt__executor *ex) {
   lt__bvh *out = w->out;
   builder *b = &w->b;
 
-  /* Centroid bounds, then the Morton codes over those bounds. */
-  parallel_for(ex, w->chunks, bounds_chunk, w);
+  /* Triangle boxes and centroid bounds, then the Morton codes over those bounds. */
+  parallel_for(ex, w->chunks, boxes_chunk, w);
   w->cbounds = box_empty();
   for (int c = 0; c < w->chunks; c++) box_grow(&w->cbounds, &w->chunk_centroids[c]);
   for (int k = 0; k < 3; k++) {
@@ -616,6 +609,7 @@ lt_status lt__bvh_build_lbvh_with(const float *tris, size_t n, const lt__sah_con
                   .leaf_size = config->max_leaf_size / 4 > 1 ? config->max_leaf_size / 4 : 1,
                   .top_bins = config->bins < TOP_MAX_BINS ? config->bins : TOP_MAX_BINS,
                   .depth_limit = depth_limit};
+  w.prim_box = malloc(n * sizeof(box));
   w.b.sorted_box = malloc(n * sizeof(box));
   w.chunk_centroids = malloc((size_t)chunks * sizeof(box));
   w.keys = malloc((n > (1 << CLUSTER_BITS) ? n : (1 << CLUSTER_BITS)) * sizeof(uint64_t));
@@ -628,7 +622,7 @@ lt_status lt__bvh_build_lbvh_with(const float *tris, size_t n, const lt__sah_con
   out->tris = malloc(n * sizeof *out->tris);
   lt_status status = LT_OK;
   void *keys = w.keys, *tmp = w.tmp; /* the sort swaps them */
-  if (w.b.sorted_box && w.chunk_centroids && w.keys && w.tmp && w.digits && w.b.clusters &&
+  if (w.prim_box && w.b.sorted_box && w.chunk_centroids && w.keys && w.tmp && w.digits && w.b.clusters &&
       w.b.cluster_index && w.order && out->nodes && out->tris) {
     build_all(&w, executor);
     /* Give back the node array's unused tail. */
@@ -638,7 +632,7 @@ lt_status lt__bvh_build_lbvh_with(const float *tris, size_t n, const lt__sah_con
     lt__bvh_free(out);
     status = LT_ERROR_OUT_OF_MEMORY;
   }
-  free(w.b.sorted_box), free(w.chunk_centroids), free(keys), free(tmp), free(w.digits);
+  free(w.prim_box), free(w.b.sorted_box), free(w.chunk_centroids), free(keys), free(tmp), free(w.digits);
   free(w.b.clusters), free(w.b.cluster_index), free(w.order);
   return status;
 }
