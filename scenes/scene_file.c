@@ -336,7 +336,7 @@ static lt_status read_geometry(reader *r, const cJSON *root) {
     placement p = {i, 0, {0, 0, 0}, 0.0f, 1.0f, NULL, 0};
     if (instances) status = read_instance(r, cJSON_GetArrayItem(instances, i), i, n, &p);
     if (!status) status = place(r, loaded[p.mesh], &p, i);
-    int still = is_identity(&p) && !lt_scene_is_animated(loaded[p.mesh]);
+    int still = is_identity(&p);
     free(p.keys), p.keys = NULL;
     if (!status && still && r->scene->camera_count == 0)
       for (int c = 0; c < loaded[p.mesh]->camera_count && !status; c++)
