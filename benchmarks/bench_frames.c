@@ -123,7 +123,8 @@ static int run_workload(lt_scene *scene, workload w, int runs, int size, int fra
         if (m != FULL && m != EMBREE && m != EMBREE_LOW && w != AO)
           for (size_t i = 0; i < last; i++)
             if (hits[i].prim != ref[i].prim || (hits[i].prim >= 0 && hits[i].t != ref[i].t)) {
-              fprintf(stderr, "%s: frame %d: hit %zu differs from the full build's\n", lt_bench_method_names[m], frame, i);
+              fprintf(stderr, "%s: frame %d: hit %zu differs from the full build's\n", lt_bench_method_names[m],
+                      frame, i);
               failed = 1;
               break;
             }

@@ -58,8 +58,8 @@ static lt_status known_keys(const reader *r, const cJSON *obj, const char *where
       snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? ", " : "", known[i]);
     char key[KEY_SIZE];
     snprintf(key, sizeof key, "%s%s%s", where, *where ? "." : "", item->string);
-    return lt__fail(LT_ERROR_PARSE, "%s:%d: %s%sunknown key '%s' (expected one of: %s)", r->path, line_of(r, key), where,
-                    *where ? ": " : "", item->string, list);
+    return lt__fail(LT_ERROR_PARSE, "%s:%d: %s%sunknown key '%s' (expected one of: %s)", r->path, line_of(r, key),
+                    where, *where ? ": " : "", item->string, list);
   }
   return LT_OK;
 }
@@ -219,7 +219,8 @@ static lt_status read_keyframes(const reader *r, const cJSON *list, const char *
   join(key, where, "keyframes");
   if (!cJSON_IsArray(list) || cJSON_GetArraySize(list) < 1 || cJSON_GetArraySize(list) > KEYS_MAX) {
     char what[96];
-    snprintf(what, sizeof what, "an array of 1 to %d keyframes ({\"time\": 0, \"translate\": [0,0,0], ...})", KEYS_MAX);
+    snprintf(what, sizeof what, "an array of 1 to %d keyframes ({\"time\": 0, \"translate\": [0,0,0], ...})",
+             KEYS_MAX);
     return expected(r, key, what, list);
   }
   p->key_count = cJSON_GetArraySize(list);

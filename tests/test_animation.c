@@ -29,7 +29,8 @@ static const char keyframed_scene[] =
 static const char exploding_scene[] =
     "{\"meshes\": [{\"generator\": \"explode:sphere:3\"}],\n"
     " \"instances\": [{\"mesh\": 0},\n"
-    "   {\"mesh\": 0, \"keyframes\": [{\"time\": 0, \"translate\": [3, 0, 0]}, {\"time\": 1, \"translate\": [6, 1, 0]}]}]}\n";
+    "   {\"mesh\": 0, \"keyframes\": [{\"time\": 0, \"translate\": [3, 0, 0]},\n"
+    "                                  {\"time\": 1, \"translate\": [6, 1, 0]}]}]}\n";
 
 static int setup(void **state) { return lt_test_temp_dir_create(state); }
 static int teardown(void **state) { return lt_test_temp_dir_remove(state); }
