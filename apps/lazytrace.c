@@ -79,7 +79,8 @@ static const char *const command_help[][2] = {
     {"collide", "lazytrace collide SCENE [--agents 100] [--rays-per-agent 8] [--frames 20] [--seed S] [--hits HITS]\n"
                 "  The on-demand paper's collision test: agents move along random paths; each frame\n"
                 "  rebuilds the structure and every agent shoots rays around it. --hits writes every\n"
-                "  frame's hits, frame after frame, agent after agent.\n"},
+                "  frame's hits, frame after frame, agent after agent. An animated scene (keyframes,\n"
+                "  explode:BASE) moves to each frame's time; the statistics add \"frames\".\n"},
     {"scene", "lazytrace scene SCENE -o FILE.obj\n"
               "  Writes the scene's triangles as OBJ, in the order trace numbers them.\n"},
     {"devices", "lazytrace devices\n  Lists the OpenCL devices found and the native backend.\n"},

@@ -151,6 +151,15 @@ for key in ("build_ms", "trace_ms", "total_ms", "nodes_built"):
     assert abs(s[key] - sum(r[key] for r in f)) < 0.01, key
 PY
 then pass "render --frames: images, frames array and totals"; else fail "render --frames: $(head -c 300 "$T/err")"; fi
+# collide moves an animated scene frame by frame: its first frame is the still scene's, its last
+# is not; the statistics keep one record per frame.
+if "$LT" collide explode:sphere:3 --agents 20 --frames 3 --device native --hits "$T/ex.hits" --stats "$T/ex.json" \
+     2>"$T/err" >/dev/null &&
+   "$LT" collide sphere:3 --agents 20 --frames 3 --device native --hits "$T/st.hits" 2>/dev/null >/dev/null &&
+   cmp -s <(head -c 2560 "$T/ex.hits") <(head -c 2560 "$T/st.hits") &&
+   ! cmp -s <(tail -c 2560 "$T/ex.hits") <(tail -c 2560 "$T/st.hits") &&
+   python3 -c "import json,sys; f=json.load(open(sys.argv[1]))['frames']; assert len(f)==3 and f[2]['rays']==160, f" "$T/ex.json"
+then pass "collide: an animated scene moves per frame"; else fail "collide on explode: $(head -c 300 "$T/err")"; fi
 printf '{"meshes": [{"generator": "sphere:1"}],\n "instances": [{"mesh": 0, "keyframes": [{"time": 0},\n  {"time": 2}]}]}\n' >"$T/badkeys.json"
 expect_error "keyframes: bad time names file, line and key" "badkeys\.json:3: instances\[0\]\.keyframes\[1\]\.time: expected a number from 0 to 1" render "$T/badkeys.json" --frames 2 --size 8x8 -o "$T/x.png"
 expect_error "render --frames 0" "--frames '0': expected a positive integer" render explode:sphere:1 --frames 0 -o "$T/x.png"
