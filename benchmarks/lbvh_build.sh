@@ -3,7 +3,7 @@
 # older one's, built with scripts/build into another directory) and work-group counts, run by
 # run interleaved, on the collision workload (lazytrace collide --structure lbvh, native backend),
 # which rebuilds every frame. Prints the median over runs of each variant's build ms per frame.
-#   benchmarks/lbvh_build.sh [--runs R] [--frames F] BINARY:WORK_GROUPS... -- SCENE...
+#   benchmarks/lbvh_build.sh [--runs R] [--frames F] BINARY:WORK_GROUPS... -- SCENE...  (paths from the repository root)
 #   e.g. benchmarks/lbvh_build.sh /tmp/old/lazytrace:2 build/lazytrace:1 build/lazytrace:2 -- hairball:10000
 set -euo pipefail
 runs=5 frames=10 variants=() scenes=()
@@ -16,7 +16,15 @@ while [ $# -gt 0 ]; do
   esac
 done
 [ ${#variants[@]} -gt 0 ] && [ ${#scenes[@]} -gt 0 ] || { sed -n 2,8p "$0"; exit 2; }
+cd "$(dirname "$0")/.."
+. benchmarks/common.sh
 median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
+echo "# LBVH build per frame, paired"
+echo
+lt_results_header "benchmarks/lbvh_build.sh --runs $runs --frames $frames ${variants[*]} -- ${scenes[*]}"
+echo "- build ms: the collision command's build_ms over its frames, divided by the frames; the"
+echo "  variants run one after the other within each run; the machine is shared with other work"
+echo
 echo "| scene | variant (binary, work-groups) | build ms per frame, median of $runs runs | runs |"
 echo "|---|---|---:|---|"
 for scene in "${scenes[@]}"; do
