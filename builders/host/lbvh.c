@@ -19,6 +19,8 @@
 /* Triangles per work item of the parallel loops over all triangles: a fixed size, so that the
  * tree (and the sort's stable order) is the same whatever the number of workers. */
 #define CHUNK_TRIS (1 << 14)
+/* Fewer triangles are built on the calling thread alone. */
+#define PARALLEL_MIN_TRIS (2 * CHUNK_TRIS)
 
 typedef struct box {
   float lo[3], hi[3];
@@ -624,7 +626,9 @@ lt_status lt__bvh_build_lbvh_with(const float *tris, size_t n, const lt__sah_con
   void *keys = w.keys, *tmp = w.tmp; /* the sort swaps them */
   if (w.prim_box && w.b.sorted_box && w.chunk_centroids && w.keys && w.tmp && w.digits && w.b.clusters &&
       w.b.cluster_index && w.order && out->nodes && out->tris) {
-    build_all(&w, executor);
+    /* Threads pay off only past a few chunks of triangles: starting them costs more than a
+     * small scene's whole build. */
+    build_all(&w, n >= PARALLEL_MIN_TRIS ? executor : NULL);
     /* Give back the node array's unused tail. */
     lt_bvh_node *fit = out->node_count > 0 ? realloc(out->nodes, (size_t)out->node_count * sizeof *out->nodes) : NULL;
     if (fit) out->nodes = fit;
