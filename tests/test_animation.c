@@ -1,8 +1,9 @@
 /* Animated scenes (scenes/scene_motion.c): instance keyframes move triangles rigidly and
  * interpolate between keys; explode:BASE starts at BASE, keeps every triangle's shape and is
  * the same in every run; every structure, build mode and backend rebuilt over a moved scene
- * returns the brute-force reference's hits on every frame tried; bad motion is refused with
- * the file, the line and what was wrong; the statistics keep one record per frame. */
+ * returns the brute-force reference's hits on every frame tried, and a frame's image is the
+ * brute-force one; bad motion is refused with the file, the line and what was wrong; the
+ * statistics keep one record per frame. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -199,6 +200,37 @@ static void animation_exploding_frames_match_brute_force(void **state) {
   lt_scene_destroy(scene);
 }
 
+/* An animation's images, as render --frames draws them: every frame through a structure rebuilt
+ * over the moved scene equals the brute-force image of that frame, pixel for pixel, and the
+ * frames differ from one another. */
+static void animation_frame_images_match_brute_force(void **state) {
+  (void)state;
+  enum { W = 40, H = 30, FRAMES = 3 };
+  lt_scene *scene = lt_test_load_ok(lt_test_write_file("burst.json", exploding_scene));
+  lt_context *ctx;
+  lt_context_config native = {LT_DEVICE_NATIVE, 0, 0, 0, 1};
+  assert_int_equal(lt_context_create(&native, &ctx), LT_OK);
+  lt_effects effects = {.primary = 1, .ao_samples = 4, .ao_distance = 0.5f, .diffuse_bounces = 1};
+  lt_render_config config = {W, H, 1, &effects, 5, 0, 0};
+  float *image = malloc(3 * sizeof(float) * W * H), *ref = malloc(3 * sizeof(float) * W * H);
+  float *first = malloc(3 * sizeof(float) * W * H);
+  assert_true(image && ref && first);
+  for (int f = 0; f < FRAMES; f++) {
+    lt_scene_set_time(scene, lt_frame_time(f, FRAMES));
+    lt_structure *structure = NULL;
+    assert_int_equal(lt_structure_create(ctx, scene, NULL, NULL, &structure), LT_OK);
+    assert_int_equal(lt_render(structure, scene, &config, image, NULL), LT_OK);
+    lt_structure_destroy(structure);
+    assert_int_equal(lt_render(NULL, scene, &config, ref, NULL), LT_OK);
+    assert_memory_equal(image, ref, 3 * sizeof(float) * W * H);
+    if (f == 0) memcpy(first, image, 3 * sizeof(float) * W * H);
+    else assert_memory_not_equal(image, first, 3 * sizeof(float) * W * H);
+  }
+  free(image), free(ref), free(first);
+  lt_context_destroy(ctx);
+  lt_scene_destroy(scene);
+}
+
 /* ---- Bad motion ---- */
 
 static void animation_bad_motion_is_refused(void **state) {
@@ -299,6 +331,7 @@ int main(void) {
       cmocka_unit_test(animation_explode_starts_at_base_and_repeats),
       cmocka_unit_test(animation_bad_motion_is_refused),
       cmocka_unit_test(animation_stats_record_frames),
+      cmocka_unit_test(animation_frame_images_match_brute_force),
       cmocka_unit_test(animation_keyframed_frames_match_brute_force),
       cmocka_unit_test(animation_exploding_frames_match_brute_force),
   };
