@@ -16,6 +16,7 @@ typedef struct lt_cli {
   int size_given; /* --size was given: it overrides a scene file's image size */
   int spp;        /* --spp, or 0: the scene's */
   int agents, rays_per_agent, frames;
+  int frames_given; /* --frames was given: render draws an animation of that many frames */
   uint64_t seed;
   int build_given;
   int interleaved; /* --split interleaved: under mpirun, rank r takes items r, r + ranks, ... */

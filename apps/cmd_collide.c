@@ -2,7 +2,8 @@
  * section 5): agents move along random line segments inside the scene bounds; every frame the
  * structure is rebuilt from scratch and each agent shoots rays in random directions around
  * itself, as far as its next position. With --hits, all frames' hits are written, frame after
- * frame, each frame agent after agent. */
+ * frame, each frame agent after agent. An animated scene moves to each frame's time (the paths
+ * stay those drawn over its first frame's bounds); the statistics keep a record per frame. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -41,6 +42,7 @@ int lt_cmd_collide(lt_cli *cli) {
   for (int f = 0; f < cli->frames; f++) {
     lt_structure *structure = NULL;
     lt_stats_reset(frame_stats);
+    lt_scene_set_time(scene, lt_frame_time(f, cli->frames)); /* an animated scene moves */
     lt_collision_rays(paths, cli->agents, cli->rays_per_agent, f, cli->frames, cli->seed + 1, rays);
     lt_status status = lt_structure_create(ctx, scene, &cli->structure, frame_stats, &structure);
     if (!status) status = lt_structure_trace(structure, rays, n, LT_QUERY_CLOSEST, hits, frame_stats);
@@ -52,6 +54,7 @@ int lt_cmd_collide(lt_cli *cli) {
     int frame_hits = 0;
     for (size_t i = 0; i < n; i++) frame_hits += hits[i].prim >= 0;
     if (all_hits) memcpy(all_hits + (size_t)f * n, hits, n * sizeof *hits);
+    lt_stats_add_frame(stats, frame_stats);
     double b = lt_stats_get(frame_stats, "build_ms"), t = lt_stats_get(frame_stats, "trace_ms");
     build_sum += b, trace_sum += t, hits_sum += frame_hits;
     fprintf(stderr, "%5d  %8.2f  %8.2f  %8.2f  %d\n", f, b, t, b + t, frame_hits);

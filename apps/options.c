@@ -85,6 +85,7 @@ static int apply(lt_cli *cli, const char *option, const char *value) {
     }
     if ((n = parse_positive(value, 1 << 24)) < 0) return bad(option, value, "a positive integer");
     *slot = (int)n;
+    cli->frames_given |= slot == &cli->frames;
   }
   return 0;
 }

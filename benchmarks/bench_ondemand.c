@@ -9,7 +9,7 @@
  * Methods: the SAH BVH built in full, requested and speculative modes, the LBVH, Embree; with
  * --kd, table and sweep measure the kd-tree in the three modes instead (the paper's Table 2
  * and Figure 5 for kd-trees), beside the full and speculative BVH and Embree; collide always
- * measures both.
+ * measures both, and Embree's low-quality build beside its default.
  * Every figure is the median of R runs (methods interleaved run by run); the lazytrace hits
  * are checked against the full build's. Markdown goes to stdout, CSV to --csv FILE. */
 #include <math.h>
@@ -28,11 +28,13 @@
 #define METHODS LT_BENCH_METHODS
 enum { FULL = LT_BENCH_FULL, REQUESTED = LT_BENCH_REQUESTED, SPECULATIVE = LT_BENCH_SPECULATIVE, LBVH = LT_BENCH_LBVH,
        KD_FULL = LT_BENCH_KD_FULL, KD_REQUESTED = LT_BENCH_KD_REQUESTED, KD_SPECULATIVE = LT_BENCH_KD_SPECULATIVE,
-       EMBREE = LT_BENCH_EMBREE };
+       EMBREE = LT_BENCH_EMBREE, EMBREE_LOW = LT_BENCH_EMBREE_LOW };
 
 /* Which methods an experiment runs (bits 1 << method). */
 #define BVH_METHODS (1u << FULL | 1u << REQUESTED | 1u << SPECULATIVE | 1u << LBVH | 1u << EMBREE)
 #define KD_METHODS (1u << KD_FULL | 1u << KD_REQUESTED | 1u << KD_SPECULATIVE | 1u << FULL | 1u << SPECULATIVE | 1u << EMBREE)
+/* Collision frames rebuild every time: Embree's low-quality (Morton) build is the peer there. */
+#define COLLIDE_METHODS (BVH_METHODS | KD_METHODS | 1u << EMBREE_LOW)
 static unsigned methods_run = BVH_METHODS;
 
 typedef struct figures {
@@ -58,10 +60,11 @@ static lt_context *native_context(void) {
 /* One run of one method over the batches; hits of the last batch land in `hits`. */
 static int run_method(const lt_scene *scene, int method, const batch *batches, int nbatches, int run, figures *f,
                       lt_hit *hits) {
-  if (method == EMBREE) {
+  if (method == EMBREE || method == EMBREE_LOW) {
 #ifdef LT_HAVE_EMBREE
     double build;
-    lt_embree *e = lt_embree_build(scene, lt_context_work_groups(native_context()), &build);
+    lt_embree *e = lt_embree_build_quality(scene, lt_context_work_groups(native_context()),
+                                           method == EMBREE_LOW ? LT_EMBREE_LOW : LT_EMBREE_MEDIUM, &build);
     if (!e) return 1;
     double trace = 0;
     for (int b = 0; b < nbatches; b++) trace += lt_embree_trace(e, batches[b].rays, batches[b].count, batches[b].any, hits);
@@ -130,9 +133,9 @@ static void csv_row(FILE *csv, const char *scene, const char *camera, const char
 
 static void print_row(const char *label, size_t rays, const figures *f, int runs) {
   printf("| %s | %.2fM |", label, rays / 1e6);
-  for (int m = 0; m < METHODS; m++) {
+  for (int m = 0; m < METHODS; m++) { /* one column for each method the experiment runs */
     if (f[m].ok) printf(" %.0f |", lt_bench_median(f[m].total, runs));
-    else printf(" - |");
+    else if (methods_run & 1u << m) printf(" - |");
   }
   double full = lt_bench_median(f[FULL].total, runs), req = lt_bench_median(f[REQUESTED].total, runs), spec = lt_bench_median(f[SPECULATIVE].total, runs);
   double best = req < spec ? req : spec;
@@ -253,12 +256,30 @@ static int sweep(int runs, int size, int max, FILE *csv) {
   return 0;
 }
 
-/* Table 4: every frame rebuilds from scratch and traces 800 short rays. */
+/* Table 4: every frame rebuilds from scratch and traces 800 short rays. Every method's frames
+ * are timed one by one; the table gives the median frame over all frames of all runs, and the
+ * median run's total of 20 frames. */
+#define FRAMES 20
+
+static const char *const collide_labels[METHODS] = {"full",   "requested", "speculative",    "LBVH",  "Kd",
+                                                     "Kd_R",   "Kd_A",      "Embree default", "Embree low"};
+
+static double median_frame(const double (*frame_ms)[MAX_RUNS * FRAMES], int m, int runs) {
+  return lt_bench_median(frame_ms[m], runs * FRAMES);
+}
+
 static int collide(int argc, char **argv, int runs, FILE *csv) {
-  const int agents = 100, per_agent = 8, frames = 20;
-  printf("| scene | triangles | full ms | requested ms | speculative ms | LBVH ms | Kd ms | Kd_R ms | Kd_A ms | Embree ms |"
-         " best on-demand BVH / full | best on-demand BVH / LBVH | best on-demand Kd / Kd | best on-demand Kd / LBVH |"
-         " nodes requested per frame (BVH, Kd) |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  const int agents = 100, per_agent = 8;
+  static const int columns[] = {FULL, REQUESTED, SPECULATIVE, KD_FULL, KD_REQUESTED, KD_SPECULATIVE, LBVH, EMBREE, EMBREE_LOW};
+  static const int on_demand[] = {REQUESTED, SPECULATIVE, KD_REQUESTED, KD_SPECULATIVE};
+  printf("Each method's cell: median milliseconds per frame (build plus trace), over all frames of all runs;"
+         " in brackets the median run's total over %d frames.\n\n| scene | triangles |", FRAMES);
+  for (int c = 0; c < 9; c++) printf(" %s |", collide_labels[columns[c]]);
+  printf(" best on-demand | best / Embree low | best / LBVH | best / Embree default | best / full |"
+         " nodes requested per frame (BVH, Kd) |\n|---|---:|");
+  for (int c = 0; c < 9 + 5; c++) printf("---:|");
+  printf("---:|\n");
+  if (csv) fprintf(csv, "scene,triangles,method,frame_ms,total_ms,nodes_per_frame\n");
   for (int i = 0; i < argc; i++) {
     lt_scene *scene;
     if (lt_scene_load(argv[i], &scene) != LT_OK) return fprintf(stderr, "%s\n", lt_last_error()), 1;
@@ -266,8 +287,12 @@ static int collide(int argc, char **argv, int runs, FILE *csv) {
     float *paths = malloc(6 * sizeof(float) * agents);
     lt_ray *rays = malloc((size_t)agents * per_agent * sizeof *rays);
     lt_hit *hits = malloc((size_t)agents * per_agent * sizeof *hits);
+    /* The full build's hits of every frame (it runs first), which every lazytrace method must give. */
+    size_t frame_rays = (size_t)agents * per_agent;
+    lt_hit *full_hits = malloc(FRAMES * frame_rays * sizeof *full_hits);
     lt_collision_paths(scene, agents, 42, paths);
     figures f[METHODS];
+    static double frame_ms[METHODS][MAX_RUNS * FRAMES];
     memset(f, 0, sizeof f);
     for (int run = 0; run < runs; run++)
       for (int m = 0; m < METHODS; m++) {
@@ -275,28 +300,51 @@ static int collide(int argc, char **argv, int runs, FILE *csv) {
         figures frame;
         double total = 0, nodes = 0;
         int failed = 0;
-        for (int fr = 0; fr < frames && !failed; fr++) {
-          lt_collision_rays(paths, agents, per_agent, fr, frames, 43, rays);
+        for (int fr = 0; fr < FRAMES && !failed; fr++) {
+          lt_collision_rays(paths, agents, per_agent, fr, FRAMES, 43, rays);
           batch b = {rays, (size_t)agents * per_agent, 0};
           memset(&frame, 0, sizeof frame);
           failed = run_method(scene, m, &b, 1, 0, &frame, hits);
+          lt_hit *want = full_hits + fr * frame_rays;
+          if (!failed && m == FULL) memcpy(want, hits, frame_rays * sizeof *hits);
+          int check = !failed && m != FULL && m != EMBREE && m != EMBREE_LOW && f[FULL].ok;
+          for (size_t r = 0; check && r < frame_rays; r++)
+            if (hits[r].prim != want[r].prim || (hits[r].prim >= 0 && hits[r].t != want[r].t))
+              return fprintf(stderr, "%s: frame %d, hit %zu differs from the full build's\n", lt_bench_method_names[m], fr, r), 1;
+          frame_ms[m][run * FRAMES + fr] = frame.total[0];
           total += frame.total[0], nodes += frame.nodes;
         }
         if (failed) continue;
-        f[m].total[run] = total, f[m].nodes = nodes / frames, f[m].ok = 1;
-        fprintf(stderr, "    %-11s run %d: %8.1f ms\n", lt_bench_method_names[m], run + 1, total);
+        f[m].total[run] = total, f[m].nodes = nodes / FRAMES, f[m].ok = 1;
+        fprintf(stderr, "    %-14s run %d: %8.1f ms\n", lt_bench_method_names[m], run + 1, total);
       }
-    double full = lt_bench_median(f[FULL].total, runs), req = lt_bench_median(f[REQUESTED].total, runs);
-    double spec = lt_bench_median(f[SPECULATIVE].total, runs), best = req < spec ? req : spec;
-    double lbvh = lt_bench_median(f[LBVH].total, runs), embree = f[EMBREE].ok ? lt_bench_median(f[EMBREE].total, runs) : -1;
-    double kd = lt_bench_median(f[KD_FULL].total, runs), kd_r = lt_bench_median(f[KD_REQUESTED].total, runs);
-    double kd_a = lt_bench_median(f[KD_SPECULATIVE].total, runs), kd_best = kd_r < kd_a ? kd_r : kd_a;
-    printf("| %s | %zu | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | %.2f | %.2f | %.2f | %.2f | %.0f, %.0f |\n",
-           argv[i], lt_scene_triangle_count(scene), full, req, spec, lbvh, kd, kd_r, kd_a, embree, best / full, best / lbvh,
-           kd_best / kd, kd_best / lbvh, f[REQUESTED].nodes, f[KD_REQUESTED].nodes);
+
+    /* The cells, then the best on-demand method per frame against the peers. */
+    printf("| %s | %zu |", argv[i], lt_scene_triangle_count(scene));
+    for (int c = 0; c < 9; c++) {
+      int m = columns[c];
+      if (f[m].ok) printf(" %.1f (%.0f) |", median_frame(frame_ms, m, runs), lt_bench_median(f[m].total, runs));
+      else printf(" - |");
+    }
+    int best = -1;
+    for (int o = 0; o < 4; o++)
+      if (f[on_demand[o]].ok && (best < 0 || median_frame(frame_ms, on_demand[o], runs) < median_frame(frame_ms, best, runs)))
+        best = on_demand[o];
+    double b = best >= 0 ? median_frame(frame_ms, best, runs) : -1.0;
+    printf(" %s |", best >= 0 ? collide_labels[best] : "-");
+    static const int peers[] = {EMBREE_LOW, LBVH, EMBREE, FULL};
+    for (int p = 0; p < 4; p++) {
+      if (best >= 0 && f[peers[p]].ok) printf(" %.2f |", b / median_frame(frame_ms, peers[p], runs));
+      else printf(" - |");
+    }
+    printf(" %.0f, %.0f |\n", f[REQUESTED].nodes, f[KD_REQUESTED].nodes);
     if (csv)
-      fprintf(csv, "%s,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f\n", argv[i], full, req, spec, lbvh, kd, kd_r, kd_a, embree);
-    free(paths), free(rays), free(hits);
+      for (int m = 0; m < METHODS; m++)
+        if (f[m].ok)
+          fprintf(csv, "%s,%zu,%s,%.2f,%.2f,%.0f\n", argv[i], lt_scene_triangle_count(scene), lt_bench_method_names[m],
+                  median_frame(frame_ms, m, runs), lt_bench_median(f[m].total, runs),
+                  m == EMBREE || m == EMBREE_LOW ? -1.0 : f[m].nodes);
+    free(paths), free(rays), free(hits), free(full_hits);
     lt_scene_destroy(scene);
   }
   return 0;
@@ -361,7 +409,7 @@ int main(int argc, char **argv) {
   int rc;
   if (strcmp(argv[1], "table") == 0) rc = table(nscenes, scenes, runs, size, ao, csv);
   else if (strcmp(argv[1], "sweep") == 0) rc = sweep(runs, size, max, csv);
-  else if (strcmp(argv[1], "collide") == 0) rc = (methods_run = BVH_METHODS | KD_METHODS, collide(nscenes, scenes, runs, csv));
+  else if (strcmp(argv[1], "collide") == 0) rc = (methods_run = COLLIDE_METHODS, collide(nscenes, scenes, runs, csv));
   else if (strcmp(argv[1], "steps") == 0) rc = steps(nscenes, scenes, size);
   else rc = (fprintf(stderr, "bench_ondemand: unknown experiment %s\n", argv[1]), 2);
   if (csv) fclose(csv);

@@ -8,10 +8,33 @@
 #include <stdlib.h>
 
 struct lt_embree {
-  RTCDevice device;
+  RTCDevice device; /* borrowed from the devices below */
   RTCScene scene;
   int threads;
 };
+
+/* One Embree device per thread count, made on first use and kept for the program's life, as a
+ * program that rebuilds its scene every frame keeps its device (its threads and memory pools):
+ * a scene's build time then never includes starting Embree. */
+#define DEVICES 8
+static struct {
+  int threads;
+  RTCDevice device;
+} devices[DEVICES];
+
+static RTCDevice device_for(int threads) {
+  for (int d = 0; d < DEVICES; d++) {
+    if (devices[d].device && devices[d].threads == threads) return devices[d].device;
+    if (!devices[d].device) {
+      char config[64];
+      snprintf(config, sizeof config, "threads=%d", threads);
+      devices[d].device = rtcNewDevice(config);
+      devices[d].threads = threads;
+      return devices[d].device;
+    }
+  }
+  return NULL;
+}
 
 typedef struct job {
   RTCScene scene;
@@ -44,11 +67,21 @@ static void *trace_range(void *p) {
   return NULL;
 }
 
+const char *lt_embree_quality_name(lt_embree_quality quality) {
+  return quality == LT_EMBREE_LOW ? "low" : quality == LT_EMBREE_HIGH ? "high" : "medium";
+}
+
+static enum RTCBuildQuality embree_quality(lt_embree_quality quality) {
+  return quality == LT_EMBREE_LOW ? RTC_BUILD_QUALITY_LOW : quality == LT_EMBREE_HIGH ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM;
+}
+
 lt_embree *lt_embree_build(const lt_scene *scene, int threads, double *build_ms) {
-  char config[64];
-  snprintf(config, sizeof config, "threads=%d", threads);
+  return lt_embree_build_quality(scene, threads, LT_EMBREE_MEDIUM, build_ms);
+}
+
+lt_embree *lt_embree_build_quality(const lt_scene *scene, int threads, lt_embree_quality quality, double *build_ms) {
   lt_embree *e = calloc(1, sizeof *e);
-  if (!e || !(e->device = rtcNewDevice(config))) return free(e), NULL;
+  if (!e || !(e->device = device_for(threads))) return free(e), NULL;
   e->threads = threads < 64 ? threads : 64;
 
   /* Build: copy the triangles into Embree's buffers and commit, timed together. */
@@ -58,12 +91,15 @@ lt_embree *lt_embree_build(const lt_scene *scene, int threads, double *build_ms)
   RTCGeometry geometry = rtcNewGeometry(e->device, RTC_GEOMETRY_TYPE_TRIANGLE);
   float *vertices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n);
   unsigned *indices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n);
-  if (!vertices || !indices) return rtcReleaseDevice(e->device), free(e), NULL;
+  if (!vertices || !indices) return rtcReleaseGeometry(geometry), free(e), NULL;
   for (size_t i = 0; i < 9 * n; i++) vertices[i] = tris[i];
   for (size_t i = 0; i < 3 * n; i++) indices[i] = (unsigned)i;
+  /* The quality is set on both the geometry (its BVH over triangles) and the scene. */
+  rtcSetGeometryBuildQuality(geometry, embree_quality(quality));
   rtcCommitGeometry(geometry);
   e->scene = rtcNewScene(e->device);
   rtcSetSceneFlags(e->scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(e->scene, embree_quality(quality));
   rtcAttachGeometry(e->scene, geometry);
   rtcReleaseGeometry(geometry);
   rtcCommitScene(e->scene);
@@ -87,7 +123,6 @@ double lt_embree_trace(lt_embree *e, const lt_ray *rays, size_t count, int any, 
 void lt_embree_release(lt_embree *e) {
   if (!e) return;
   rtcReleaseScene(e->scene);
-  rtcReleaseDevice(e->device);
   free(e);
 }
 

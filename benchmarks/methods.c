@@ -2,7 +2,7 @@
 #include "benchmarks/methods.h"
 
 const char *const lt_bench_method_names[LT_BENCH_METHODS] = {
-    "full", "requested", "speculative", "lbvh", "kd-full", "kd-requested", "kd-speculative", "embree"};
+    "full", "requested", "speculative", "lbvh", "kd-full", "kd-requested", "kd-speculative", "embree", "embree-low"};
 
 lt_structure_config lt_bench_method_config(int method) {
   int kd = method >= LT_BENCH_KD_FULL && method <= LT_BENCH_KD_SPECULATIVE;

@@ -1,5 +1,6 @@
 /* The methods the benchmarks compare: the SAH BVH built in full, on request or speculatively,
- * the LBVH, the SAH kd-tree in the same three modes, and (where a benchmark has it) Embree. */
+ * the LBVH, the SAH kd-tree in the same three modes, and (where a benchmark has it) Embree with
+ * its default build and with its low-quality (Morton) build. */
 #ifndef LT_BENCH_METHODS_H
 #define LT_BENCH_METHODS_H
 
@@ -14,6 +15,7 @@ enum {
   LT_BENCH_KD_REQUESTED,
   LT_BENCH_KD_SPECULATIVE,
   LT_BENCH_EMBREE,
+  LT_BENCH_EMBREE_LOW,
   LT_BENCH_METHODS
 };
 

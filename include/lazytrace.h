@@ -156,6 +156,19 @@ lt_status lt_scene_write_obj(const lt_scene *scene, const char *path);
 /* A comma-separated list of the generators, for help text. */
 const char *lt_generator_names(void);
 
+/* Animated scenes: a scene file's instances with "keyframes" (rigid transforms interpolated
+ * over time) and the generator "explode:BASE" (BASE's triangles fly apart) move with time, a
+ * number from 0 (the first frame, the pose lt_scene_load gives) to 1 (the last). Whether the
+ * scene moves at all: */
+int lt_scene_is_animated(const lt_scene *scene);
+/* Moves every triangle to where it is at `time` (clamped to [0, 1]; NaN is 0). The triangle
+ * count and numbering never change; time 0 restores the loaded pose exactly. A structure built
+ * over the scene must be destroyed first, or rebuilt after: it reads the triangles it was built
+ * from. No-op on a scene that does not move. */
+void lt_scene_set_time(lt_scene *scene, double time);
+/* Frame `frame` of `frames` as a time: frames spread evenly from 0 to 1 (a single frame: 0). */
+double lt_frame_time(int frame, int frames);
+
 /* Primary rays through pixel centres, row by row from the top; out holds width*height rays. */
 void lt_camera_primary_rays(const lt_camera *camera, int width, int height, lt_ray *out);
 
@@ -179,7 +192,8 @@ typedef struct lt_stats lt_stats;
 lt_status lt_stats_create(lt_stats **out);
 void lt_stats_destroy(lt_stats *stats);
 void lt_stats_reset(lt_stats *stats);
-/* Copies every value and name (structure, build, device) of src into dst. */
+/* Copies every value and name (structure, build, device) of src into dst; dst keeps its own
+ * frame records (lt_stats_add_frame). */
 void lt_stats_copy(lt_stats *dst, const lt_stats *src);
 /* A counter or time by its contract key ("trace_ms", "nodes_built", "pool.stalls", ...);
  * returns -1 for a key that does not apply (written as null). */
@@ -194,6 +208,11 @@ const char *lt_stats_text(const lt_stats *stats, const char *key);
 lt_status lt_stats_set(lt_stats *stats, const char *key, double value);
 /* Writes one JSON object with every key of the contract. */
 lt_status lt_stats_write_json(const lt_stats *stats, FILE *out);
+/* Records frame (the statistics of one frame of an animation) as the next entry of the
+ * "frames" array of stats: its rays, build_ms, trace_ms, total_ms and nodes_built. Up to
+ * LT_STATS_MAX_FRAMES are kept; later ones are only counted ("frames_not_recorded"). */
+#define LT_STATS_MAX_FRAMES 1024
+void lt_stats_add_frame(lt_stats *stats, const lt_stats *frame);
 
 /* ---- Acceleration structures ---- */
 

@@ -29,7 +29,16 @@ void lt_stats_reset(lt_stats *stats) {
 }
 
 void lt_stats_copy(lt_stats *dst, const lt_stats *src) {
-  if (dst && src && dst != src) *dst = *src;
+  if (!dst || !src || dst == src) return;
+
+  /* The frames belong to the animation dst sums up, not to the frame copied into it. */
+  int frame_count = dst->frame_count;
+  long frames_more = dst->frames_more;
+  lt__frame_record frames[LT_STATS_MAX_FRAMES];
+  memcpy(frames, dst->frames, (size_t)frame_count * sizeof *frames);
+  *dst = *src;
+  dst->frame_count = frame_count, dst->frames_more = frames_more;
+  memcpy(dst->frames, frames, (size_t)frame_count * sizeof *frames);
 }
 
 static int key_index(const char *key) {
@@ -111,6 +120,43 @@ void lt__stats_batch(lt_stats *stats, const char *effect, double rays, double ms
   b->rays = rays, b->ms = ms, b->nodes_built = nodes_built;
 }
 
+void lt_stats_add_frame(lt_stats *stats, const lt_stats *frame) {
+  if (!stats || !frame) return;
+  if (stats->frame_count == LT_STATS_MAX_FRAMES) {
+    stats->frames_more++;
+    return;
+  }
+  lt__frame_record *f = &stats->frames[stats->frame_count++];
+  f->rays = frame->value[LT_STAT_RAYS];
+  f->build_ms = frame->value[LT_STAT_BUILD_MS];
+  f->trace_ms = frame->value[LT_STAT_TRACE_MS];
+  f->total_ms = frame->value[LT_STAT_TOTAL_MS];
+  f->nodes_built = frame->value[LT_STAT_NODES_BUILT];
+}
+
+/* An animation's frames, one record each; null when nothing was animated. */
+static void write_frames(const lt_stats *stats, FILE *out) {
+  fputs(",\n  \"frames\": ", out);
+  if (stats->frame_count == 0) fputs("null", out);
+  for (int i = 0; i < stats->frame_count; i++) {
+    const lt__frame_record *f = &stats->frames[i];
+    fprintf(out, "%s\n    {\"frame\": %d, \"rays\": ", i ? "," : "[", i);
+    write_number(out, f->rays, 0);
+    fputs(", \"build_ms\": ", out);
+    write_number(out, f->build_ms, 1);
+    fputs(", \"trace_ms\": ", out);
+    write_number(out, f->trace_ms, 1);
+    fputs(", \"total_ms\": ", out);
+    write_number(out, f->total_ms, 1);
+    fputs(", \"nodes_built\": ", out);
+    write_number(out, f->nodes_built, 0);
+    fputs("}", out);
+  }
+  if (stats->frame_count) fputs("\n  ]", out);
+  fputs(",\n  \"frames_not_recorded\": ", out);
+  write_number(out, stats->frame_count ? (double)stats->frames_more : -1.0, 0);
+}
+
 /* The length of a nested key's prefix ("pool" of "pool.tasks"), or 0 for a top-level key. */
 static size_t prefix_length(const char *key) {
   const char *dot = strchr(key, '.');
@@ -182,6 +228,7 @@ lt_status lt_stats_write_json(const lt_stats *stats, FILE *out) {
   if (stats->batch_count) fputs("\n  ]", out);
   fputs(",\n  \"batches_not_recorded\": ", out);
   write_number(out, stats->batch_count ? (double)stats->batches_more : -1.0, 0);
+  write_frames(stats, out);
   fputs("\n}\n", out);
   return ferror(out) ? lt__fail(LT_ERROR_IO, "writing statistics failed") : LT_OK;
 }

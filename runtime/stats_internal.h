@@ -79,6 +79,11 @@ typedef struct lt__batch_record {
   double rays, ms, nodes_built;
 } lt__batch_record;
 
+/* One frame of an animation (lt_stats_add_frame), written as the "frames" array. */
+typedef struct lt__frame_record {
+  double rays, build_ms, trace_ms, total_ms, nodes_built;
+} lt__frame_record;
+
 struct lt_stats {
   char structure[64];
   char build[64];
@@ -88,6 +93,9 @@ struct lt_stats {
   int batch_count;   /* records kept */
   long batches_more; /* batches past LT_STATS_MAX_BATCHES: counted in the totals, not recorded */
   lt__batch_record batches[LT_STATS_MAX_BATCHES];
+  int frame_count;  /* frame records kept */
+  long frames_more; /* frames past LT_STATS_MAX_FRAMES: counted, not recorded */
+  lt__frame_record frames[LT_STATS_MAX_FRAMES];
 };
 
 /* Adds to a counter (a "does not apply" counter starts from 0); no-op on a NULL stats. */

@@ -1,5 +1,6 @@
 /* The registry entry of the LBVH (builders/host/lbvh.c), the fast-build baseline: built on the
- * host in full, traced by the host-built BVH's kernel (kernels/bvh_trace.h). Trees from the
+ * host in full, on one thread per work-group (at most one per core), traced by the host-built
+ * BVH's kernel (kernels/bvh_trace.h). Trees from the
  * other host builders (the sweep builder of the accuracy report) ride on the same entry. */
 #include <stdlib.h>
 #include <string.h>
@@ -32,8 +33,13 @@ static lt_status create(lt_structure *s, lt_stats *stats) {
   lbvh_state *l = s->state;
   lt__sah_config sah = lt__structure_sah(&s->config);
   size_t n = lt_scene_triangle_count(s->scene);
+  /* As many builder threads as work-groups run at once, but no more than the host has cores:
+   * an OpenCL GPU's work-group count says nothing about the host. */
+  int workers = lt_context_work_groups(s->ctx), cores = lt__native_threads();
+  lt__executor executor = {workers < cores ? workers : cores, lt__native_run};
   double start = lt_now_ms();
-  lt_status status = lt__bvh_build_lbvh(lt_scene_triangles(s->scene), n, &sah, &l->bvh);
+  lt_status status =
+      lt__bvh_build_lbvh_with(lt_scene_triangles(s->scene), n, &sah, LT_BVH_MAX_DEPTH, &executor, &l->bvh);
   if (status)
     return lt__fail(status, "building the LBVH over %zu triangles (leaf size %d, %d bins): %s", n, sah.max_leaf_size,
                     sah.bins, lt_status_str(status));
@@ -102,7 +108,7 @@ static const lt__param params[] = {
 
 const lt__structure_class lt__structure_lbvh = {
     .name = "lbvh",
-    .summary = "LBVH (Karras 2012) with an SAH top, built on the host: the fast-build baseline",
+    .summary = "LBVH (Karras 2012) with an SAH top, built on the host's threads: the fast-build baseline",
     .params = params,
     .modes = 1u << LT_BUILD_FULL,
     .defaults = {.kind = LT_STRUCTURE_LBVH, .build = LT_BUILD_FULL, .max_leaf_size = 16, .sah_bins = 32,

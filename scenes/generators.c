@@ -12,7 +12,7 @@
 #define NUMBER_CAP 1000000000L
 
 const char *lt_generator_names(void) {
-  return "house, house-row:N, house-grid:RxC, hairball:N, teapot-stadium, sphere:LEVEL, cornell";
+  return "house, house-row:N, house-grid:RxC, hairball:N, teapot-stadium, sphere:LEVEL, cornell, explode:BASE";
 }
 
 /* The spec as the user wrote it, for messages. */
@@ -72,6 +72,30 @@ static lt_status no_args(const char *name, const char *args) {
                   name);
 }
 
+/* explode:BASE: the scene of the generator spec BASE, whose triangles fly apart with time. */
+static lt_status explode(const char *args, lt_scene *scene) {
+  char base[SPEC_SIZE];
+  if (!args || !*args)
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT,
+                    "explode: expected explode:BASE with BASE a generator spec (e.g. explode:sphere:4)");
+  snprintf(base, sizeof base, "%s", args);
+  char *colon = strchr(base, ':');
+  if (colon) *colon = '\0';
+  if (strcmp(base, "explode") == 0)
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT, "explode:%s: the base of an explosion cannot explode itself", args);
+  lt_status status = lt__generate(base, colon ? colon + 1 : NULL, scene);
+  if (status) return status;
+
+  /* The pieces fly up to about three times the scene's radius: its cameras step back three
+   * times as far from what they look at, to keep the explosion in view. */
+  for (int c = 0; c < scene->camera_count; c++)
+    for (int k = 0; k < 3; k++) {
+      lt_camera *cam = &scene->cameras[c];
+      cam->eye[k] = cam->look[k] + 3.0f * (cam->eye[k] - cam->look[k]);
+    }
+  return lt__motion_explode(scene);
+}
+
 lt_status lt__generate(const char *name, const char *args, lt_scene *scene) {
   long a = 0, b = 0;
   lt_status status;
@@ -101,5 +125,8 @@ lt_status lt__generate(const char *name, const char *args, lt_scene *scene) {
   if (strcmp(name, "teapot-stadium") == 0)
     return (status = no_args(name, args)) ? status : lt__gen_teapot_stadium(scene);
   if (strcmp(name, "cornell") == 0) return (status = no_args(name, args)) ? status : lt__gen_cornell(scene);
+
+  /* Animation: another generator's triangles flying apart over time. */
+  if (strcmp(name, "explode") == 0) return explode(args, scene);
   return lt__fail(LT_ERROR_UNKNOWN_GENERATOR, "unknown generator '%s' (known: %s)", name, lt_generator_names());
 }

@@ -123,6 +123,7 @@ lt_status lt_scene_load(const char *spec, lt_scene **out) {
 void lt_scene_destroy(lt_scene *scene) {
   if (!scene) return;
   lt__scene_desc_free(scene->desc);
+  lt__motion_free(scene->motion);
   free(scene->tris);
   free(scene);
 }

@@ -17,6 +17,7 @@
 
 typedef struct reader {
   const char *path;
+  const char *text; /* the file's text, for the line of a key in messages */
   char dir[1024]; /* the scene file's directory, for mesh paths relative to it */
   lt_scene *scene;
   lt__scene_desc *desc;
@@ -36,9 +37,13 @@ static const char *describe(const cJSON *v, char *buf, size_t size) {
   return "null";
 }
 
+/* The line of a key path in the file. */
+static int line_of(const reader *r, const char *key) { return lt__json_line(r->text, key); }
+
 static lt_status expected(const reader *r, const char *key, const char *what, const cJSON *got) {
   char buf[96];
-  return lt__fail(LT_ERROR_PARSE, "%s: %s: expected %s, got %s", r->path, key, what, describe(got, buf, sizeof buf));
+  return lt__fail(LT_ERROR_PARSE, "%s:%d: %s: expected %s, got %s", r->path, line_of(r, key), key, what,
+                  describe(got, buf, sizeof buf));
 }
 
 /* Refuses keys of obj that are not in known (a NULL-terminated list). */
@@ -51,8 +56,10 @@ static lt_status known_keys(const reader *r, const cJSON *obj, const char *where
     char list[256] = "";
     for (int i = 0; known[i]; i++)
       snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? ", " : "", known[i]);
-    return lt__fail(LT_ERROR_PARSE, "%s: %s%sunknown key '%s' (expected one of: %s)", r->path, where, *where ? ": " : "",
-                    item->string, list);
+    char key[KEY_SIZE];
+    snprintf(key, sizeof key, "%s%s%s", where, *where ? "." : "", item->string);
+    return lt__fail(LT_ERROR_PARSE, "%s:%d: %s%sunknown key '%s' (expected one of: %s)", r->path, line_of(r, key),
+                    where, *where ? ": " : "", item->string, list);
   }
   return LT_OK;
 }
@@ -137,7 +144,7 @@ static lt_status element_object(const reader *r, const cJSON *item, const char *
 static lt_status wrap(const reader *r, const char *key, lt_status status) {
   char inner[512];
   snprintf(inner, sizeof inner, "%s", lt_last_error());
-  return lt__fail(status, "%s: %s: %s", r->path, key, inner);
+  return lt__fail(status, "%s:%d: %s: %s", r->path, line_of(r, key), key, inner);
 }
 
 /* One mesh as a scene of its own: a generator spec or a file relative to the scene file. */
@@ -189,17 +196,66 @@ static lt_status load_mesh(const reader *r, const cJSON *item, int index, lt_sce
   return LT_OK;
 }
 
+/* Keyframes an instance may have; enough for any hand-written animation. */
+#define KEYS_MAX 1024
+
 typedef struct placement {
   int mesh, material;
   float translate[3], rotate_y, scale;
+  lt__pose *keys; /* "keyframes", by increasing time; NULL: the instance stands still */
+  int key_count;
 } placement;
 
 static int is_identity(const placement *p) {
-  return p->translate[0] == 0 && p->translate[1] == 0 && p->translate[2] == 0 && p->rotate_y == 0 && p->scale == 1;
+  return !p->keys && p->translate[0] == 0 && p->translate[1] == 0 && p->translate[2] == 0 && p->rotate_y == 0 &&
+         p->scale == 1;
+}
+
+/* An instance's "keyframes": poses at times from 0 to 1, strictly increasing; a key's
+ * translate, rotate_y and scale default to the instance's own. */
+static lt_status read_keyframes(const reader *r, const cJSON *list, const char *where, placement *p) {
+  static const char *const keys[] = {"time", "translate", "rotate_y", "scale", NULL};
+  char key[KEY_SIZE], at[KEY_SIZE + 16];
+  join(key, where, "keyframes");
+  if (!cJSON_IsArray(list) || cJSON_GetArraySize(list) < 1 || cJSON_GetArraySize(list) > KEYS_MAX) {
+    char what[96];
+    snprintf(what, sizeof what, "an array of 1 to %d keyframes ({\"time\": 0, \"translate\": [0,0,0], ...})",
+             KEYS_MAX);
+    return expected(r, key, what, list);
+  }
+  p->key_count = cJSON_GetArraySize(list);
+  p->keys = calloc((size_t)p->key_count, sizeof *p->keys);
+  if (!p->keys) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "%s: out of memory", r->path);
+  lt_status status = LT_OK;
+  for (int i = 0; i < p->key_count && !status; i++) {
+    const cJSON *item = cJSON_GetArrayItem(list, i);
+    lt__pose *k = &p->keys[i];
+    double time, angle, scale;
+    snprintf(at, sizeof at, "%s[%d]", key, i);
+    status = element_object(r, item, at);
+    if (!status) status = known_keys(r, item, at, keys);
+    if (!status && !cJSON_GetObjectItemCaseSensitive(item, "time")) {
+      char time_key[KEY_SIZE];
+      status = expected(r, join(time_key, at, "time"), "the keyframe's time, a number from 0 to 1", NULL);
+    }
+    if (!status) status = number(r, item, at, "time", 0.0, 1.0, 0.0, &time);
+    if (!status) status = vec3(r, item, at, "translate", -INFINITY, INFINITY, p->translate, k->translate);
+    if (!status) status = number(r, item, at, "rotate_y", -1e6, 1e6, p->rotate_y, &angle);
+    if (!status) status = number(r, item, at, "scale", 1e-6, 1e6, p->scale, &scale);
+    k->time = (float)time, k->rotate_y = (float)angle, k->scale = (float)scale;
+
+    /* Times must rise, or the interpolation between two keys would divide by nothing. */
+    if (!status && i > 0 && !(k->time > k[-1].time)) {
+      char time_key[KEY_SIZE], what[96];
+      snprintf(what, sizeof what, "a time after the previous keyframe's (%g)", k[-1].time);
+      status = expected(r, join(time_key, at, "time"), what, cJSON_GetObjectItemCaseSensitive(item, "time"));
+    }
+  }
+  return status;
 }
 
 static lt_status read_instance(const reader *r, const cJSON *item, int index, int meshes, placement *p) {
-  static const char *const keys[] = {"mesh", "translate", "rotate_y", "scale", "material", NULL};
+  static const char *const keys[] = {"mesh", "translate", "rotate_y", "scale", "material", "keyframes", NULL};
   static const float zero[3] = {0, 0, 0};
   char where[KEY_SIZE];
   double angle, scale;
@@ -207,8 +263,8 @@ static lt_status read_instance(const reader *r, const cJSON *item, int index, in
   lt_status status = element_object(r, item, where);
   if (!status) status = known_keys(r, item, where, keys);
   if (!status && !cJSON_GetObjectItemCaseSensitive(item, "mesh"))
-    return lt__fail(LT_ERROR_PARSE, "%s: %s.mesh: expected the index of a mesh (0 to %d), got nothing", r->path,
-                    where, meshes - 1);
+    return lt__fail(LT_ERROR_PARSE, "%s:%d: %s.mesh: expected the index of a mesh (0 to %d), got nothing", r->path,
+                    line_of(r, where), where, meshes - 1);
   if (!status) status = integer(r, item, where, "mesh", 0, meshes - 1, 0, &p->mesh);
   if (!status) status = vec3(r, item, where, "translate", -INFINITY, INFINITY, zero, p->translate);
   if (!status) status = number(r, item, where, "rotate_y", -1e6, 1e6, 0.0, &angle);
@@ -217,26 +273,39 @@ static lt_status read_instance(const reader *r, const cJSON *item, int index, in
   if (!status) status = number(r, item, where, "scale", 1e-6, 1e6, 1.0, &scale);
   if (!status) status = integer(r, item, where, "material", 0, (int)r->desc->material_count - 1, 0, &p->material);
   p->rotate_y = (float)angle, p->scale = (float)scale;
+  const cJSON *keyframes = cJSON_GetObjectItemCaseSensitive(item, "keyframes");
+  if (!status && keyframes) status = read_keyframes(r, keyframes, where, p);
   return status;
 }
 
-/* Appends the mesh's triangles moved by the placement: scaled, turned about y, translated. */
-static lt_status place(reader *r, const lt_scene *mesh, const placement *p) {
-  float c = cosf(p->rotate_y * 3.14159265358979f / 180.0f), s = sinf(p->rotate_y * 3.14159265358979f / 180.0f);
+/* Appends the mesh's triangles moved by the placement: scaled, turned about y, translated. An
+ * instance with keyframes, or of a mesh that moves by itself (explode:BASE), becomes a mover
+ * of the scene; its triangles are placed at time 0 once the whole file is read. */
+static lt_status place(reader *r, const lt_scene *mesh, const placement *p, int index) {
+  lt__pose pose = {0.0f, {p->translate[0], p->translate[1], p->translate[2]}, p->rotate_y, p->scale};
   size_t first = r->scene->count;
   for (size_t t = 0; t < mesh->count; t++) {
     float v[3][3];
-    for (int k = 0; k < 3; k++) {
-      const float *q = mesh->tris + 9 * t + 3 * k;
-      float x = p->scale * q[0], y = p->scale * q[1], z = p->scale * q[2];
-      v[k][0] = c * x + s * z + p->translate[0];
-      v[k][1] = y + p->translate[1];
-      v[k][2] = -s * x + c * z + p->translate[2];
-    }
+    for (int k = 0; k < 3; k++) lt__pose_apply(&pose, mesh->tris + 9 * t + 3 * k, v[k]);
     lt_status status = lt__scene_add_tri(r->scene, v[0], v[1], v[2]);
     if (status) return status;
   }
   r->scene->skipped += mesh->skipped;
+
+  /* A moving instance keeps its mesh's shape and poses; its triangles must all be kept, for
+   * the numbering to hold in every frame. */
+  const float *burst = lt_scene_is_animated(mesh) ? mesh->motion->movers[0].burst : NULL;
+  if (p->keys || burst) {
+    if (r->scene->count - first != mesh->count) {
+      char key[KEY_SIZE];
+      snprintf(key, sizeof key, "instances[%d]", index);
+      return lt__fail(LT_ERROR_PARSE, "%s:%d: %s: a moving instance places triangles beyond float range", r->path,
+                      line_of(r, key), key);
+    }
+    lt_status status = lt__motion_add(r->scene, first, mesh->count, mesh->tris, burst, p->keys ? p->keys : &pose,
+                                      p->keys ? p->key_count : 1);
+    if (status) return status;
+  }
 
   /* Each new triangle gets the instance's material. */
   if (r->scene->count > r->tri_capacity) {
@@ -265,15 +334,20 @@ static lt_status read_geometry(reader *r, const cJSON *root) {
   const cJSON *instances = status ? NULL : array_of(r, root, "instances", &status);
   int count = instances ? cJSON_GetArraySize(instances) : n;
   for (int i = 0; i < count && !status; i++) {
-    placement p = {i, 0, {0, 0, 0}, 0.0f, 1.0f};
+    placement p = {i, 0, {0, 0, 0}, 0.0f, 1.0f, NULL, 0};
     if (instances) status = read_instance(r, cJSON_GetArrayItem(instances, i), i, n, &p);
-    if (!status) status = place(r, loaded[p.mesh], &p);
-    if (!status && is_identity(&p) && r->scene->camera_count == 0)
+    if (!status) status = place(r, loaded[p.mesh], &p, i);
+    int still = is_identity(&p);
+    free(p.keys), p.keys = NULL;
+    if (!status && still && r->scene->camera_count == 0)
       for (int c = 0; c < loaded[p.mesh]->camera_count && !status; c++)
         status = lt__scene_add_camera(r->scene, loaded[p.mesh]->camera_names[c], loaded[p.mesh]->cameras[c]);
   }
   for (int i = 0; i < n; i++) lt_scene_destroy(loaded[i]);
   free(loaded);
+
+  /* Moving instances take their pose at time 0. */
+  if (!status) lt_scene_set_time(r->scene, 0.0);
   return status;
 }
 
@@ -434,8 +508,10 @@ static lt_status read_effects(reader *r, const cJSON *root) {
   /* Shading effects start from the camera's hits. */
   if (!e->primary && (e->shadows || e->ao_samples || e->diffuse_samples || e->mirror_depth)) {
     const char *name = e->shadows ? "shadows" : e->ao_samples ? "ao" : e->diffuse_samples ? "diffuse" : "mirror";
-    return lt__fail(LT_ERROR_PARSE, "%s: effects.%s: expected effects.primary to be on (it starts from the primary hits)",
-                    r->path, name);
+    char key[KEY_SIZE];
+    join(key, "effects", name);
+    return lt__fail(LT_ERROR_PARSE, "%s:%d: %s: expected effects.primary to be on (it starts from the primary hits)",
+                    r->path, line_of(r, key), key);
   }
   return LT_OK;
 }
@@ -498,9 +574,8 @@ lt_status lt__load_scene_file(const char *path, lt_scene *scene) {
     free(text);
     return status;
   }
-  free(text);
 
-  reader r = {path, "", scene, calloc(1, sizeof(lt__scene_desc)), 0};
+  reader r = {path, text, "", scene, calloc(1, sizeof(lt__scene_desc)), 0};
   const char *slash = strrchr(path, '/');
   if (slash) snprintf(r.dir, sizeof r.dir, "%.*s/", (int)(slash - path), path);
   if (!r.desc) status = lt__fail(LT_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
@@ -518,6 +593,7 @@ lt_status lt__load_scene_file(const char *path, lt_scene *scene) {
   if (!status) status = read_effects(&r, root);
   if (!status) status = vec3(&r, root, "", "background", 0.0, 1e30, sky, r.desc->background);
   cJSON_Delete(root);
+  free(text);
   if (status) {
     lt__scene_desc_free(r.desc);
     return status;

@@ -17,7 +17,50 @@ struct lt_scene {
   char camera_names[LT_SCENE_MAX_CAMERAS][16];
   lt_camera cameras[LT_SCENE_MAX_CAMERAS];
   struct lt__scene_desc *desc; /* materials, lights, effects; NULL: the default description */
+  struct lt__motion *motion;   /* how the triangles move with time; NULL: they do not */
 };
+
+/* ---- Motion (scene_motion.c) ---- */
+
+/* A rigid pose at a time from 0 to 1: scale, then turn about y (degrees), then translate. */
+typedef struct lt__pose {
+  float time, translate[3], rotate_y, scale;
+} lt__pose;
+
+/* Floats per triangle of an explosion: velocity (3), spin axis (3, unit), spin rate (radians
+ * per unit of time), fall (downward acceleration). */
+#define LT_BURST_FLOATS 8
+
+/* Triangles first .. first + count - 1 of the scene move together: each starts from its rest
+ * shape (mesh space), flies apart by its burst (if any), then takes the interpolated pose. */
+typedef struct lt__mover {
+  size_t first, count;
+  float *rest;    /* 9 floats per triangle */
+  float *burst;   /* LT_BURST_FLOATS per triangle, or NULL: no explosion */
+  lt__pose *keys; /* by strictly increasing time; at least one */
+  int key_count;
+} lt__mover;
+
+typedef struct lt__motion {
+  lt__mover *movers;
+  int count, capacity;
+} lt__motion;
+
+/* Moves the point p (mesh space) by the pose into out; the arithmetic a static instance has
+ * always used, so that a pose written once places triangles where it always did. */
+void lt__pose_apply(const lt__pose *pose, const float p[3], float out[3]);
+/* Adds a mover over triangles first .. first + count - 1 with copies of rest (9 floats per
+ * triangle), burst (LT_BURST_FLOATS per triangle, or NULL) and keys. */
+lt_status lt__motion_add(lt_scene *scene, size_t first, size_t count, const float *rest, const float *burst,
+                         const lt__pose *keys, int key_count);
+/* Makes every triangle of the scene fly apart from the centre of its bounds over time
+ * (explode:BASE); the directions, speeds and spins derive from a fixed seed. */
+lt_status lt__motion_explode(lt_scene *scene);
+void lt__motion_free(struct lt__motion *motion);
+
+/* The line (from 1) of the value at a key path such as "instances[2].keyframes[1].time" in a
+ * JSON text that parsed; where the path leaves the text, the line of the deepest value found. */
+int lt__json_line(const char *text, const char *path);
 
 /* What a scene file says beyond the triangles (scene_desc.c holds the defaults). */
 typedef struct lt__scene_desc {

@@ -122,7 +122,7 @@ fi
 printf '{"meshes": [{"generator": "sphere:2"}], "lights": [{"point": [0, 3, -3], "intensity": [9, 9, 9]}],\n "effects": {"shadows": true, "ao": {"samples": 2, "distance": 0.5}, "mirror": {"depth": 2}}}\n' >"$T/ok.json"
 printf '{"meshes": [{"generator": "sphere:2"}], "effects": {"ao": {"samples": "many"}}}\n' >"$T/badkey.json"
 printf '{"meshes": [{"generator": "sphere:2"}],\n "lights": [}\n' >"$T/syntax.json"
-expect_error "scene file: bad value names file and key" "badkey\.json: effects\.ao\.samples: expected a whole number" render "$T/badkey.json" --size 8x8 -o "$T/x.png"
+expect_error "scene file: bad value names file, line and key" "badkey\.json:1: effects\.ao\.samples: expected a whole number" render "$T/badkey.json" --size 8x8 -o "$T/x.png"
 expect_error "scene file: malformed JSON names line" "syntax\.json:2:.*malformed JSON" render "$T/syntax.json" --size 8x8 -o "$T/x.png"
 if "$LT" render "$T/ok.json" --size 24x16 --device native -o "$T/ok.png" --stats "$T/ok.stats" 2>"$T/err" >/dev/null &&
    python3 - "$T/ok.stats" <<'PY'
@@ -135,6 +135,34 @@ PY
 then pass "render a scene file: rays_by_effect and batches"; else fail "render a scene file: $(head -c 300 "$T/err")"; fi
 if "$LT" trace sphere:2 --rays "$T/one.rays" --hits "$T/x.hits" --stats "$T/t.json" 2>/dev/null >/dev/null &&
    grep -q '"rays_by_effect": null' "$T/t.json"; then pass "trace: rays_by_effect is null"; else fail "trace: rays_by_effect not null"; fi
+
+# Animations: --frames writes one image per frame and one statistics record per frame, with
+# totals over the frames; the first frame is the scene as loaded; bad motion names file and line.
+if "$LT" render explode:sphere:2 --frames 3 --size 16x16 --device native -o "$T/anim.png" --stats "$T/anim.json" \
+     2>"$T/err" >/dev/null &&
+   "$LT" render explode:sphere:2 --size 16x16 --device native -o "$T/still.png" 2>/dev/null >/dev/null &&
+   cmp -s "$T/anim_0000.png" "$T/still.png" && ! cmp -s "$T/anim_0000.png" "$T/anim_0002.png" &&
+   grep -q "^    2 " "$T/err" && python3 - "$T/anim.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1])); f = s["frames"]
+assert [r["frame"] for r in f] == [0, 1, 2] and all(r["rays"] == 256 for r in f), f
+assert s["rays"] == 768 and s["frames_not_recorded"] == 0, s["rays"]
+for key in ("build_ms", "trace_ms", "total_ms", "nodes_built"):
+    assert abs(s[key] - sum(r[key] for r in f)) < 0.01, key
+PY
+then pass "render --frames: images, frames array and totals"; else fail "render --frames: $(head -c 300 "$T/err")"; fi
+# collide moves an animated scene frame by frame: its first frame is the still scene's, its last
+# is not; the statistics keep one record per frame.
+if "$LT" collide explode:sphere:3 --agents 20 --frames 3 --device native --hits "$T/ex.hits" --stats "$T/ex.json" \
+     2>"$T/err" >/dev/null &&
+   "$LT" collide sphere:3 --agents 20 --frames 3 --device native --hits "$T/st.hits" 2>/dev/null >/dev/null &&
+   cmp -s <(head -c 2560 "$T/ex.hits") <(head -c 2560 "$T/st.hits") &&
+   ! cmp -s <(tail -c 2560 "$T/ex.hits") <(tail -c 2560 "$T/st.hits") &&
+   python3 -c "import json,sys; f=json.load(open(sys.argv[1]))['frames']; assert len(f)==3 and f[2]['rays']==160, f" "$T/ex.json"
+then pass "collide: an animated scene moves per frame"; else fail "collide on explode: $(head -c 300 "$T/err")"; fi
+printf '{"meshes": [{"generator": "sphere:1"}],\n "instances": [{"mesh": 0, "keyframes": [{"time": 0},\n  {"time": 2}]}]}\n' >"$T/badkeys.json"
+expect_error "keyframes: bad time names file, line and key" "badkeys\.json:3: instances\[0\]\.keyframes\[1\]\.time: expected a number from 0 to 1" render "$T/badkeys.json" --frames 2 --size 8x8 -o "$T/x.png"
+expect_error "render --frames 0" "--frames '0': expected a positive integer" render explode:sphere:1 --frames 0 -o "$T/x.png"
 
 # Help on every command.
 for c in render trace collide scene devices; do

@@ -1,6 +1,7 @@
 /* The LBVH with an SAH top (HLBVH_4) against the brute-force reference: closest hits (prim and
  * t, bitwise) and occlusion from tracing its arrays directly, and the shape of the tree: depth
  * bound, every triangle once in leaf order, exact child boxes, the recorded SAH cost. */
+#include <pthread.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -297,6 +298,82 @@ static void lbvh_rejects_bad_arguments(void **state) {
   lt__bvh_free(&bvh);
 }
 
+/* An executor for the tests: fn on `workers` threads, one of them the caller. */
+typedef struct thread_call {
+  void (*fn)(void *arg);
+  void *arg;
+} thread_call;
+
+static void *thread_main(void *p) {
+  const thread_call *call = p;
+  call->fn(call->arg);
+  return NULL;
+}
+
+static lt_status run_threads(int workers, void (*fn)(void *arg), void *arg) {
+  pthread_t threads[16];
+  thread_call call = {fn, arg};
+  assert_true(workers >= 1 && workers <= 16);
+  for (int t = 1; t < workers; t++) assert_int_equal(pthread_create(&threads[t], NULL, thread_main, &call), 0);
+  fn(arg);
+  for (int t = 1; t < workers; t++) pthread_join(threads[t], NULL);
+  return LT_OK;
+}
+
+/* An executor whose threads never start: the build must run its loops on the caller instead. */
+static lt_status run_refused(int workers, void (*fn)(void *arg), void *arg) {
+  (void)workers, (void)fn, (void)arg;
+  return LT_ERROR_OUT_OF_MEMORY;
+}
+
+static void assert_same_tree(const lt__bvh *a, const lt__bvh *b) {
+  assert_int_equal(a->node_count, b->node_count);
+  assert_int_equal(a->tri_count, b->tri_count);
+  assert_int_equal(a->leaf_count, b->leaf_count);
+  assert_int_equal(a->max_depth, b->max_depth);
+  assert_true(a->sort_ops == b->sort_ops);
+  assert_true(a->sah_cost == b->sah_cost);
+  assert_memory_equal(a->nodes, b->nodes, (size_t)a->node_count * sizeof *a->nodes);
+  assert_memory_equal(a->tris, b->tris, (size_t)a->tri_count * sizeof *a->tris);
+}
+
+/* The build's loops on several threads (a scene of several sort chunks and many clusters, and
+ * one under a tight depth bound) give the serial build's tree node for node, and so the
+ * reference's hits; an executor that cannot start its threads falls back to the caller. */
+static void lbvh_parallel_build_matches_serial(void **state) {
+  (void)state;
+  static const char *const specs[] = {"hairball:1000", "house"};
+  static const int depth_limits[] = {LT_BVH_MAX_DEPTH, 8};
+  for (size_t s = 0; s < sizeof specs / sizeof specs[0]; s++) {
+    lt_scene *scene;
+    assert_int_equal(lt_scene_load(specs[s], &scene), LT_OK);
+    size_t n = lt_scene_triangle_count(scene);
+    const float *tris = lt_scene_triangles(scene);
+    lt_ray *rays = scene_rays(scene);
+    for (int d = 0; d < 2; d++) {
+      lt__bvh serial;
+      assert_int_equal(lt__bvh_build_lbvh_with(tris, n, NULL, depth_limits[d], NULL, &serial), LT_OK);
+      static const int workers[] = {2, 3, 8};
+      for (int w = 0; w < 4; w++) {
+        lt__executor ex = {w < 3 ? workers[w] : 4, w < 3 ? run_threads : run_refused};
+        lt__bvh parallel;
+        assert_int_equal(lt__bvh_build_lbvh_with(tris, n, NULL, depth_limits[d], &ex, &parallel), LT_OK);
+        assert_same_tree(&parallel, &serial);
+        check_tree(&parallel, tris, n, depth_limits[d]);
+        lt__bvh_free(&parallel);
+      }
+      char what[64];
+      snprintf(what, sizeof what, "%s depth limit %d", specs[s], depth_limits[d]);
+      assert_matches_reference(what, scene, &serial, rays, RAY_COUNT);
+      fprintf(stderr, "%s: %zu triangles, depth limit %d: the same tree on 1, 2, 3 and 8 threads\n", specs[s], n,
+              depth_limits[d]);
+      lt__bvh_free(&serial);
+    }
+    free(rays);
+    lt_scene_destroy(scene);
+  }
+}
+
 static double seconds(void) {
   struct timespec ts;
   timespec_get(&ts, TIME_UTC);
@@ -334,6 +411,7 @@ int main(void) {
       cmocka_unit_test(lbvh_identical_triangles_share_one_code),
       cmocka_unit_test(lbvh_matches_reference_on_generators),
       cmocka_unit_test(lbvh_depth_bound_forces_big_leaves),
+      cmocka_unit_test(lbvh_parallel_build_matches_serial),
       cmocka_unit_test(lbvh_builds_faster_than_sah),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

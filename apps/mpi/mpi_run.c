@@ -530,6 +530,7 @@ static int run_collide(run *m, lt_cli *cli, lt_context *ctx, lt_scene *scene, lt
     if (count == 0) continue;
     lt_structure *structure = NULL;
     lt_stats_reset(frame_stats);
+    lt_scene_set_time(scene, lt_frame_time((int)f, cli->frames)); /* an animated scene moves, as in collide */
     lt_status status = lt_structure_create(ctx, scene, &cli->structure, frame_stats, &structure);
     if (!status) status = lt_structure_trace(structure, rays, count, LT_QUERY_CLOSEST, hits + f * count, frame_stats);
     lt_structure_destroy(structure);

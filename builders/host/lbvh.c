@@ -8,7 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-
 #define AXIS_BITS   10
 #define MORTON_BITS (3 * AXIS_BITS)
 /* Four levels of the octree: the "_4" of HLBVH_4; at most 4096 clusters. */
@@ -17,6 +16,11 @@
 #define RADIX_PASSES ((MORTON_BITS + RADIX_BITS - 1) / RADIX_BITS)
 /* Clusters are few, so the top is cheap even with the on-demand paper's 32 bins. */
 #define TOP_MAX_BINS 32
+/* Triangles per work item of the parallel loops over all triangles: a fixed size, so that the
+ * tree (and the sort's stable order) is the same whatever the number of workers. */
+#define CHUNK_TRIS (1 << 14)
+/* Fewer triangles are built on the calling thread alone. */
+#define PARALLEL_MIN_TRIS (2 * CHUNK_TRIS)
 
 typedef struct box {
   float lo[3], hi[3];
@@ -28,12 +32,27 @@ typedef struct child {
   int link, count;
 } child;
 
+/* What one serial piece of the build adds to the tree: nodes taken from its range, leaves, the
+ * deepest level and its share of the SAH cost. */
+typedef struct subtree {
+  int next_node; /* next free entry of the node array */
+  int leaves, max_depth;
+  double cost;
+} subtree;
+
 /* The primitives of one cluster: a run of the sorted keys with the same top CLUSTER_BITS. */
 typedef struct cluster {
   int begin, end; /* range of the sorted keys */
   int out;        /* first position in leaf order, given when the top build reaches it */
   box bounds;
   float centroid[3];
+  /* Where the top hangs its Karras hierarchy: the top node and side (parent -1: the root), at
+   * which depth; has_tree is 0 when the cluster went into one of the top's forced leaves. */
+  int has_tree, parent, side, depth;
+  int reserved; /* its first node in the build's node array, room for end - begin - 1 nodes */
+  int first;    /* its first node in the final, compact node array */
+  subtree tree;
+  child root; /* its hierarchy's root, linked as in the build's node array */
 } cluster;
 
 typedef struct builder {
@@ -43,8 +62,11 @@ typedef struct builder {
   box *sorted_box;      /* triangle boxes in key order, so that leaves read them in sequence */
   cluster *clusters;
   int *cluster_index; /* cluster numbers, permuted by the top build */
+  int cluster_count;
   int next_out;       /* next free position in leaf order */
-  lt__bvh *bvh;
+  lt_bvh_node *nodes; /* the build's node array: the top's nodes, then every cluster's range */
+  subtree top;
+  uint64_t sort_ops;
 } builder;
 
 /* min and max as comparisons: the scene holds no NaN, and fminf/fmaxf are library calls here. */
@@ -93,38 +115,6 @@ static uint32_t quantize(float c, float lo, float scale) {
   return t >= 1023.0f ? 1023u : (uint32_t)t;
 }
 
-/* LSD radix sort of the keys by their code bits. Each pass is stable and the keys start in
- * triangle order, so equal codes end in triangle order and the build is deterministic. Returns
- * the array that holds the result (keys or tmp). */
-static uint64_t *radix_sort(uint64_t *keys, uint64_t *tmp, size_t n, uint64_t *ops) {
-  enum { buckets = 1 << RADIX_BITS };
-  size_t count[RADIX_PASSES][buckets];
-  memset(count, 0, sizeof count);
-
-  /* One read of the keys counts the digits of every pass. */
-  for (size_t i = 0; i < n; i++)
-    for (int p = 0; p < RADIX_PASSES; p++) count[p][(keys[i] >> (32 + p * RADIX_BITS)) & (buckets - 1)]++;
-
-  for (int p = 0; p < RADIX_PASSES; p++) {
-    int shift = 32 + p * RADIX_BITS;
-    /* A digit that is the same in every key would only copy the array. */
-    if (count[p][(keys[0] >> shift) & (buckets - 1)] == n) continue;
-
-    /* Exclusive prefix sums give each bucket's first slot; then scatter in order. */
-    size_t sum = 0;
-    for (int d = 0; d < buckets; d++) {
-      size_t c = count[p][d];
-      count[p][d] = sum;
-      sum += c;
-    }
-    for (size_t i = 0; i < n; i++) tmp[count[p][(keys[i] >> shift) & (buckets - 1)]++] = keys[i];
-    uint64_t *swap = keys;
-    keys = tmp, tmp = swap;
-    *ops += n;
-  }
-  return keys;
-}
-
 /* ---- Karras hierarchy inside a cluster ---- */
 
 static uint32_t code_of(uint64_t key) { return (uint32_t)(key >> 32); }
@@ -149,10 +139,10 @@ static int find_split(const uint64_t *keys, int first, int last) {
   return lo - 1;
 }
 
-/* Builds the subtree over the sorted keys [first, last]; leaf order is key order plus offset. */
-static void build_range(builder *b, int first, int last, int offset, int depth, child *out) {
-  lt__bvh *bvh = b->bvh;
-  if (depth > bvh->max_depth) bvh->max_depth = depth;
+/* Builds the subtree over the sorted keys [first, last] into st's node range; leaf order is key
+ * order plus offset. */
+static void build_range(const builder *b, subtree *st, int first, int last, int offset, int depth, child *out) {
+  if (depth > st->max_depth) st->max_depth = depth;
   int n = last - first + 1;
 
   /* Small ranges are leaves, and whatever remains at the depth bound, whatever its size. */
@@ -160,23 +150,23 @@ static void build_range(builder *b, int first, int last, int offset, int depth, 
     box bounds = box_empty();
     for (int i = first; i <= last; i++) box_grow(&bounds, &b->sorted_box[i]);
     out->bounds = bounds, out->link = first + offset, out->count = n;
-    bvh->leaf_count++;
-    bvh->sah_cost += (double)b->config->intersection_cost * n * box_area(&bounds);
+    st->leaves++;
+    st->cost += (double)b->config->intersection_cost * n * box_area(&bounds);
     return;
   }
 
   /* Inner node: split by the codes, then take the exact box from the children. */
   int split = find_split(b->keys, first, last);
-  int node = bvh->node_count++;
+  int node = st->next_node++;
   child left, right;
-  build_range(b, first, split, offset, depth + 1, &left);
-  build_range(b, split + 1, last, offset, depth + 1, &right);
-  set_child(&bvh->nodes[node], 0, &left);
-  set_child(&bvh->nodes[node], 1, &right);
+  build_range(b, st, first, split, offset, depth + 1, &left);
+  build_range(b, st, split + 1, last, offset, depth + 1, &right);
+  set_child(&b->nodes[node], 0, &left);
+  set_child(&b->nodes[node], 1, &right);
   out->bounds = left.bounds;
   box_grow(&out->bounds, &right.bounds);
   out->link = node, out->count = 0;
-  bvh->sah_cost += (double)b->config->traversal_cost * box_area(&out->bounds);
+  st->cost += (double)b->config->traversal_cost * box_area(&out->bounds);
 }
 
 /* ---- SAH top over the clusters ---- */
@@ -216,7 +206,7 @@ static int split_clusters(builder *b, int begin, int end) {
       box_grow(&bin_box[axis][k], &c->bounds);
     }
   }
-  b->bvh->sort_ops += (uint64_t)(end - begin);
+  b->sort_ops += (uint64_t)(end - begin);
 
   /* Price every bin boundary; the parent's area is the same for all, so it is left out. */
   int best_axis = -1, best_bin = -1;
@@ -254,24 +244,27 @@ static int split_clusters(builder *b, int begin, int end) {
       index[j--] = c;
     }
   }
-  b->bvh->sort_ops += (uint64_t)(end - begin);
+  b->sort_ops += (uint64_t)(end - begin);
   return i;
 }
 
 /* Builds the tree over cluster_index[begin, end), giving each cluster its place in leaf order
- * as the depth-first walk reaches it, so that leaves come in the order of their triangles. */
-static void build_top(builder *b, int begin, int end, int depth, child *out) {
-  lt__bvh *bvh = b->bvh;
+ * as the depth-first walk reaches it, so that leaves come in the order of their triangles. A
+ * cluster's own hierarchy is built later, in parallel with the others: the top only notes where
+ * it hangs (parent node and side) and takes the cluster's box, which is its hierarchy's box. */
+static void build_top(builder *b, int begin, int end, int depth, int parent, int side, child *out) {
+  subtree *top = &b->top;
 
   /* One cluster: its Karras hierarchy takes this place in the tree. */
   if (end - begin == 1) {
     cluster *c = &b->clusters[b->cluster_index[begin]];
     c->out = b->next_out;
     b->next_out += c->end - c->begin;
-    build_range(b, c->begin, c->end - 1, c->out - c->begin, depth, out);
+    c->has_tree = 1, c->parent = parent, c->side = side, c->depth = depth;
+    out->bounds = c->bounds, out->link = -1, out->count = 0; /* the link comes with the hierarchy */
     return;
   }
-  if (depth > bvh->max_depth) bvh->max_depth = depth;
+  if (depth > top->max_depth) top->max_depth = depth;
 
   /* At the depth bound the remaining clusters become one leaf, laid out side by side. */
   if (depth >= b->depth_limit - 1) {
@@ -283,93 +276,305 @@ static void build_top(builder *b, int begin, int end, int depth, child *out) {
       box_grow(&out->bounds, &c->bounds);
     }
     out->count = b->next_out - out->link;
-    bvh->leaf_count++;
-    bvh->sah_cost += (double)b->config->intersection_cost * out->count * box_area(&out->bounds);
+    top->leaves++;
+    top->cost += (double)b->config->intersection_cost * out->count * box_area(&out->bounds);
     return;
   }
 
   /* Inner node over two groups of clusters. */
   int mid = split_clusters(b, begin, end);
-  int node = bvh->node_count++;
+  int node = top->next_node++;
   child left, right;
-  build_top(b, begin, mid, depth + 1, &left);
-  build_top(b, mid, end, depth + 1, &right);
-  set_child(&bvh->nodes[node], 0, &left);
-  set_child(&bvh->nodes[node], 1, &right);
+  build_top(b, begin, mid, depth + 1, node, 0, &left);
+  build_top(b, mid, end, depth + 1, node, 1, &right);
+  set_child(&b->nodes[node], 0, &left);
+  set_child(&b->nodes[node], 1, &right);
   out->bounds = left.bounds;
   box_grow(&out->bounds, &right.bounds);
   out->link = node, out->count = 0;
-  bvh->sah_cost += (double)b->config->traversal_cost * box_area(&out->bounds);
+  top->cost += (double)b->config->traversal_cost * box_area(&out->bounds);
 }
 
-/* ---- Entry points ---- */
+/* ---- Parallel loops ---- */
 
-/* Working arrays of one build. */
-typedef struct scratch {
-  box *prim_box;   /* per triangle, in triangle order */
-  box *sorted_box; /* per triangle, in key order */
+/* Items claimed one at a time from a shared counter by every worker of the executor. */
+typedef struct loop {
+  void (*body)(void *ctx, int item);
+  void *ctx;
+  int items;
+  int next; /* the next item to claim */
+} loop;
+
+static void loop_worker(void *p) {
+  loop *l = p;
+  for (int i; (i = __atomic_fetch_add(&l->next, 1, __ATOMIC_RELAXED)) < l->items;) l->body(l->ctx, i);
+}
+
+/* Runs body(ctx, i) for every i in [0, items), on the executor's workers when there are several
+ * (or on the caller alone when they cannot be started). Starting and joining the threads orders
+ * their writes before what follows. */
+static void parallel_for(const lt__executor *ex, int items, void (*body)(void *ctx, int item), void *ctx) {
+  loop l = {body, ctx, items, 0};
+  int workers = ex && ex->run ? (ex->workers < items ? ex->workers : items) : 1;
+  if (workers > 1 && ex->run(workers, loop_worker, &l) == LT_OK) return;
+  loop_worker(&l);
+}
+
+/* ---- The phases of a build ---- */
+
+/* Working arrays and the state one build's phases share. */
+typedef struct lbvh_build {
+  const float *tris;
+  int n, chunks;
+  box *prim_box;        /* per triangle, in triangle order */
+  box *chunk_centroids; /* bounds of the centroids of each chunk's triangles */
+  box cbounds;          /* bounds of all centroids */
+  float scale[3];       /* Morton cells per unit length along each axis */
   uint64_t *keys, *tmp;
-  cluster *clusters;
-  int *cluster_index;
-} scratch;
+  uint32_t *digits; /* per chunk and radix bucket: a count, then the bucket's next slot */
+  int shift;        /* the radix pass's lowest bit */
+  int *order;       /* clusters by decreasing size: big hierarchies start first */
+  builder b;
+  lt__bvh *out;
+} lbvh_build;
 
-/* Builds into out, whose arrays are allocated for n triangles. */
-static void build_all(const float *tris, size_t n, const lt__sah_config *config, int depth_limit, scratch *s,
-                      lt__bvh *out) {
-  /* Triangle boxes, and the bounds of their centroids. */
-  box cbounds = box_empty();
-  for (size_t i = 0; i < n; i++) {
-    const float *t = tris + 9 * i;
-    box *pb = &s->prim_box[i];
+static int chunk_end(const lbvh_build *w, int chunk) {
+  long long end = (long long)(chunk + 1) * CHUNK_TRIS;
+  return end < w->n ? (int)end : w->n;
+}
+
+/* Triangle boxes, and the bounds of each chunk's centroids. */
+static void boxes_chunk(void *ctx, int chunk) {
+  lbvh_build *w = ctx;
+  box cb = box_empty();
+  for (int i = chunk * CHUNK_TRIS; i < chunk_end(w, chunk); i++) {
+    const float *t = w->tris + 9 * (size_t)i;
+    box *pb = &w->prim_box[i];
     for (int k = 0; k < 3; k++) {
       pb->lo[k] = min_f(t[k], min_f(t[3 + k], t[6 + k]));
       pb->hi[k] = max_f(t[k], max_f(t[3 + k], t[6 + k]));
       float c = 0.5f * (pb->lo[k] + pb->hi[k]);
-      cbounds.lo[k] = c < cbounds.lo[k] ? c : cbounds.lo[k];
-      cbounds.hi[k] = c > cbounds.hi[k] ? c : cbounds.hi[k];
+      cb.lo[k] = c < cb.lo[k] ? c : cb.lo[k];
+      cb.hi[k] = c > cb.hi[k] ? c : cb.hi[k];
     }
   }
+  w->chunk_centroids[chunk] = cb;
+}
 
-  /* 30-bit Morton codes of the centroids, normalised to the centroid bounds. */
-  float scale[3];
-  for (int k = 0; k < 3; k++) {
-    float extent = cbounds.hi[k] - cbounds.lo[k];
-    scale[k] = extent > 0.0f ? (float)(1 << AXIS_BITS) / extent : 0.0f;
-  }
-  for (size_t i = 0; i < n; i++) {
-    const box *pb = &s->prim_box[i];
+/* 30-bit Morton codes of the centroids, normalised to the centroid bounds. */
+static void codes_chunk(void *ctx, int chunk) {
+  lbvh_build *w = ctx;
+  for (int i = chunk * CHUNK_TRIS; i < chunk_end(w, chunk); i++) {
+    const box *pb = &w->prim_box[i];
     uint32_t q[3];
-    for (int k = 0; k < 3; k++) q[k] = quantize(0.5f * (pb->lo[k] + pb->hi[k]), cbounds.lo[k], scale[k]);
+    for (int k = 0; k < 3; k++) q[k] = quantize(0.5f * (pb->lo[k] + pb->hi[k]), w->cbounds.lo[k], w->scale[k]);
     uint32_t code = spread_bits(q[0]) << 2 | spread_bits(q[1]) << 1 | spread_bits(q[2]);
-    s->keys[i] = (uint64_t)code << 32 | (uint32_t)i;
+    w->keys[i] = (uint64_t)code << 32 | (uint32_t)i;
   }
+}
+
+/* LSD radix sort, one pass in two parallel halves: every chunk counts its digits, and after the
+ * prefix sums over (digit, chunk) every chunk scatters its keys to its own slots, in order. The
+ * pass is stable and the keys start in triangle order, so equal codes end in triangle order. */
+static void count_chunk(void *ctx, int chunk) {
+  lbvh_build *w = ctx;
+  uint32_t *count = w->digits + (size_t)chunk * (1 << RADIX_BITS);
+  memset(count, 0, (1 << RADIX_BITS) * sizeof *count);
+  for (int i = chunk * CHUNK_TRIS; i < chunk_end(w, chunk); i++) count[(w->keys[i] >> w->shift) & ((1 << RADIX_BITS) - 1)]++;
+}
+
+static void scatter_chunk(void *ctx, int chunk) {
+  lbvh_build *w = ctx;
+  uint32_t *slot = w->digits + (size_t)chunk * (1 << RADIX_BITS);
+  for (int i = chunk * CHUNK_TRIS; i < chunk_end(w, chunk); i++)
+    w->tmp[slot[(w->keys[i] >> w->shift) & ((1 << RADIX_BITS) - 1)]++] = w->keys[i];
+}
+
+/* Sorts w->keys (the result ends in w->keys; w->tmp is scratch). */
+static void radix_sort(lbvh_build *w, const lt__executor *ex, uint64_t *ops) {
+  enum { buckets = 1 << RADIX_BITS };
+  for (int p = 0; p < RADIX_PASSES; p++) {
+    w->shift = 32 + p * RADIX_BITS;
+    parallel_for(ex, w->chunks, count_chunk, w);
+
+    /* A digit that is the same in every key would only copy the array. */
+    uint32_t first = (uint32_t)(w->keys[0] >> w->shift) & (buckets - 1), same = 0;
+    for (int c = 0; c < w->chunks; c++) same += w->digits[(size_t)c * buckets + first];
+    if ((int)same == w->n) continue;
+
+    /* Exclusive prefix sums, digit by digit and within a digit chunk by chunk, give each
+     * chunk's first slot for each digit. */
+    uint32_t sum = 0;
+    for (int d = 0; d < buckets; d++)
+      for (int c = 0; c < w->chunks; c++) {
+        uint32_t *v = &w->digits[(size_t)c * buckets + d];
+        uint32_t count = *v;
+        *v = sum;
+        sum += count;
+      }
+    parallel_for(ex, w->chunks, scatter_chunk, w);
+    uint64_t *swap = w->keys;
+    w->keys = w->tmp, w->tmp = swap;
+    *ops += (uint64_t)w->n;
+  }
+}
+
+static void gather_chunk(void *ctx, int chunk) {
+  lbvh_build *w = ctx;
+  for (int i = chunk * CHUNK_TRIS; i < chunk_end(w, chunk); i++)
+    w->b.sorted_box[i] = w->prim_box[(uint32_t)w->keys[i]];
+}
+
+static void cluster_bounds(void *ctx, int c) {
+  lbvh_build *w = ctx;
+  cluster *cl = &w->b.clusters[c];
+  cl->bounds = box_empty();
+  for (int i = cl->begin; i < cl->end; i++) box_grow(&cl->bounds, &w->b.sorted_box[i]);
+  for (int k = 0; k < 3; k++) cl->centroid[k] = 0.5f * (cl->bounds.lo[k] + cl->bounds.hi[k]);
+}
+
+/* A cluster's Karras hierarchy, in its reserved range of the node array. */
+static void cluster_tree(void *ctx, int item) {
+  lbvh_build *w = ctx;
+  cluster *c = &w->b.clusters[w->order[item]];
+  if (!c->has_tree) return;
+  c->tree = (subtree){c->reserved, 0, 0, 0.0};
+  build_range(&w->b, &c->tree, c->begin, c->end - 1, c->out - c->begin, c->depth, &c->root);
+}
+
+/* Moves the links between a cluster's nodes to where the nodes will be once compact; the nodes
+ * themselves move afterwards, on one thread, as the ranges of neighbours may overlap. */
+static void cluster_relink(void *ctx, int c) {
+  lbvh_build *w = ctx;
+  cluster *cl = &w->b.clusters[c];
+  if (!cl->has_tree) return;
+  int shift = cl->first - cl->reserved;
+  for (int i = cl->reserved; i < cl->tree.next_node; i++) {
+    lt_bvh_node *node = &w->b.nodes[i];
+    for (int side = 0; side < 2; side++)
+      if (node->link[2 + side] == 0 && node->link[side] >= 0) node->link[side] += shift;
+  }
+  if (cl->root.count == 0) cl->root.link += shift;
+}
+
+/* Triangles in leaf order, each carrying its number. */
+static void cluster_triangles(void *ctx, int c) {
+  lbvh_build *w = ctx;
+  const cluster *cl = &w->b.clusters[c];
+  for (int i = cl->begin; i < cl->end; i++) {
+    uint32_t p = (uint32_t)w->keys[i];
+    const float *t = w->tris + 9 * (size_t)p;
+    lt_tri *dst = &w->out->tris[cl->out + (i - cl->begin)];
+    dst->v0 = (lt_float4){t[0], t[1], t[2], lt_int_as_float((int32_t)p)};
+    dst->v1 = (lt_float4){t[3], t[4], t[5], 0.0f};
+    dst->v2 = (lt_float4){t[6], t[7], t[8], 0.0f};
+  }
+}
+
+static int compare_u64(const void *a, const void *b) {
+  uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+  return x < y ? -1 : x > y;
+}
+
+/* Clusters in the order their hierarchies are handed out: largest first, so that a big one does
+ * not start last and keep one worker busy alone. */
+static void order_clusters(lbvh_build *w, uint64_t *scratch) {
+  int count = w->b.cluster_count;
+  for (int c = 0; c < count; c++) {
+    const cluster *cl = &w->b.clusters[c];
+    scratch[c] = (uint64_t)(uint32_t)(INT32_MAX - (cl->end - cl->begin)) << 32 | (uint32_t)c;
+  }
+  qsort(scratch, (size_t)count, sizeof *scratch, compare_u64);
+  for (int c = 0; c < count; c++) w->order[c] = (int)(uint32_t)scratch[c];
+}
+
+/* Builds into out, whose arrays are allocated for n triangles (and n nodes). */
+static void build_all(lbvh_build *w, const lt__executor *ex) {
+  lt__bvh *out = w->out;
+  builder *b = &w->b;
+
+  /* Triangle boxes and centroid bounds, then the Morton codes over those bounds. */
+  parallel_for(ex, w->chunks, boxes_chunk, w);
+  w->cbounds = box_empty();
+  for (int c = 0; c < w->chunks; c++) box_grow(&w->cbounds, &w->chunk_centroids[c]);
+  for (int k = 0; k < 3; k++) {
+    float extent = w->cbounds.hi[k] - w->cbounds.lo[k];
+    w->scale[k] = extent > 0.0f ? (float)(1 << AXIS_BITS) / extent : 0.0f;
+  }
+  parallel_for(ex, w->chunks, codes_chunk, w);
 
   /* Sort, and gather the boxes into key order. */
-  const uint64_t *sorted = radix_sort(s->keys, s->tmp, n, &out->sort_ops);
-  for (size_t i = 0; i < n; i++) s->sorted_box[i] = s->prim_box[(uint32_t)sorted[i]];
+  radix_sort(w, ex, &out->sort_ops);
+  b->keys = w->keys;
+  parallel_for(ex, w->chunks, gather_chunk, w);
 
-  /* Clusters: runs of keys with the same top CLUSTER_BITS of the code. */
-  int cluster_count = 0;
-  for (int i = 0; i < (int)n;) {
-    uint32_t prefix = code_of(sorted[i]) >> (MORTON_BITS - CLUSTER_BITS);
-    cluster *c = &s->clusters[cluster_count];
-    c->begin = i, c->bounds = box_empty();
-    for (; i < (int)n && code_of(sorted[i]) >> (MORTON_BITS - CLUSTER_BITS) == prefix; i++)
-      box_grow(&c->bounds, &s->sorted_box[i]);
-    c->end = i;
-    for (int k = 0; k < 3; k++) c->centroid[k] = 0.5f * (c->bounds.lo[k] + c->bounds.hi[k]);
-    s->cluster_index[cluster_count] = cluster_count;
-    cluster_count++;
+  /* Clusters: runs of keys with the same top CLUSTER_BITS of the code, each found by a binary
+   * search for the first key past its prefix; their bounds in parallel. */
+  const int prefix_shift = MORTON_BITS - CLUSTER_BITS;
+  b->cluster_count = 0;
+  for (int i = 0; i < w->n;) {
+    uint32_t prefix = code_of(w->keys[i]) >> prefix_shift;
+    int lo = i + 1, hi = w->n;
+    while (lo < hi) {
+      int mid = lo + (hi - lo) / 2;
+      if (code_of(w->keys[mid]) >> prefix_shift > prefix)
+        hi = mid;
+      else
+        lo = mid + 1;
+    }
+    b->clusters[b->cluster_count] = (cluster){.begin = i, .end = lo};
+    b->cluster_index[b->cluster_count] = b->cluster_count;
+    b->cluster_count++;
+    i = lo;
   }
+  parallel_for(ex, b->cluster_count, cluster_bounds, w);
 
-  /* The tree: the SAH top, and a Karras hierarchy under each of its cluster leaves. LBVH leaves
-   * are a quarter of the SAH bound (4 by default): nothing prices a leaf against a split here,
-   * so small leaves keep the cost of a poor Morton split low, as in Karras's one-triangle leaves. */
-  int leaf_size = config->max_leaf_size / 4 > 1 ? config->max_leaf_size / 4 : 1;
-  int top_bins = config->bins < TOP_MAX_BINS ? config->bins : TOP_MAX_BINS;
-  builder b = {config, leaf_size, top_bins, depth_limit, sorted, s->sorted_box, s->clusters, s->cluster_index, 0, out};
+  /* The SAH top over the clusters, on this thread: its nodes come first in the node array. */
+  b->nodes = out->nodes;
   child root;
-  build_top(&b, 0, cluster_count, 0, &root);
+  build_top(b, 0, b->cluster_count, 0, -1, -1, &root);
+  out->sort_ops += b->sort_ops;
+
+  /* Every cluster's Karras hierarchy in parallel, each in a range reserved after the top's
+   * nodes: a hierarchy over m triangles has at most m - 1 inner nodes. */
+  int next = b->top.next_node;
+  for (int c = 0; c < b->cluster_count; c++) {
+    cluster *cl = &b->clusters[c];
+    cl->reserved = next;
+    if (cl->has_tree) next += cl->end - cl->begin - 1;
+  }
+  order_clusters(w, w->tmp);
+  parallel_for(ex, b->cluster_count, cluster_tree, w);
+
+  /* The compact node array: the top's nodes, then each cluster's, in cluster order. A cluster
+   * only moves down, to where no later cluster's nodes are yet, so moving them in order is safe. */
+  int total = b->top.next_node;
+  for (int c = 0; c < b->cluster_count; c++) {
+    cluster *cl = &b->clusters[c];
+    cl->first = total;
+    if (cl->has_tree) total += cl->tree.next_node - cl->reserved;
+  }
+  parallel_for(ex, b->cluster_count, cluster_relink, w);
+  for (int c = 0; c < b->cluster_count; c++) {
+    const cluster *cl = &b->clusters[c];
+    if (cl->has_tree && cl->first != cl->reserved)
+      memmove(&b->nodes[cl->first], &b->nodes[cl->reserved], (size_t)(cl->tree.next_node - cl->reserved) * sizeof *b->nodes);
+  }
+  out->node_count = total;
+
+  /* Hang every hierarchy where the top left its place, and sum what the pieces counted. */
+  out->leaf_count = b->top.leaves, out->max_depth = b->top.max_depth, out->sah_cost = b->top.cost;
+  for (int c = 0; c < b->cluster_count; c++) {
+    const cluster *cl = &b->clusters[c];
+    if (!cl->has_tree) continue;
+    if (cl->parent >= 0)
+      set_child(&out->nodes[cl->parent], cl->side, &cl->root);
+    else
+      root = cl->root;
+    out->leaf_count += cl->tree.leaves;
+    out->max_depth = cl->tree.max_depth > out->max_depth ? cl->tree.max_depth : out->max_depth;
+    out->sah_cost += cl->tree.cost;
+  }
 
   /* The root is always an inner node; a scene that is one leaf gets an empty sibling. */
   if (root.count > 0) {
@@ -379,25 +584,16 @@ static void build_all(const float *tris, size_t n, const lt__sah_config *config,
     set_child(&out->nodes[0], 1, &empty);
   }
 
-  /* Triangles in leaf order, each carrying its number. */
-  for (int c = 0; c < cluster_count; c++) {
-    const cluster *cl = &s->clusters[c];
-    for (int i = cl->begin; i < cl->end; i++) {
-      uint32_t p = (uint32_t)sorted[i];
-      const float *t = tris + 9 * (size_t)p;
-      lt_tri *dst = &out->tris[cl->out + (i - cl->begin)];
-      dst->v0 = (lt_float4){t[0], t[1], t[2], lt_int_as_float((int32_t)p)};
-      dst->v1 = (lt_float4){t[3], t[4], t[5], 0.0f};
-      dst->v2 = (lt_float4){t[6], t[7], t[8], 0.0f};
-    }
-  }
-  out->tri_count = (int)n;
+  parallel_for(ex, b->cluster_count, cluster_triangles, w);
+  out->tri_count = w->n;
   float root_area = box_area(&root.bounds);
   out->sah_cost = root_area > 0.0f ? out->sah_cost / root_area : 0.0;
 }
 
-lt_status lt__bvh_build_lbvh_limited(const float *tris, size_t n, const lt__sah_config *config, int depth_limit,
-                                     lt__bvh *out) {
+/* ---- Entry points ---- */
+
+lt_status lt__bvh_build_lbvh_with(const float *tris, size_t n, const lt__sah_config *config, int depth_limit,
+                                  const lt__executor *executor, lt__bvh *out) {
   lt__sah_config defaults = lt__sah_config_default();
   if (!config) config = &defaults;
   if (!tris || !out || n == 0 || n > INT32_MAX / 2)
@@ -405,26 +601,49 @@ lt_status lt__bvh_build_lbvh_limited(const float *tris, size_t n, const lt__sah_
   if (config->bins < 2 || config->max_leaf_size < 1 || depth_limit < 2 || depth_limit > LT_BVH_MAX_DEPTH)
     return LT_ERROR_INVALID_ARGUMENT;
 
-  /* Everything is allocated up front: n inner nodes are enough, as every inner node but the
-   * single-leaf root has two non-empty children. */
+  /* Everything is allocated up front. LBVH leaves are a quarter of the SAH bound (4 by
+   * default): nothing prices a leaf against a split here, so small leaves keep the cost of a
+   * poor Morton split low, as in Karras's one-triangle leaves. */
   memset(out, 0, sizeof *out);
-  scratch s = {malloc(n * sizeof(box)),
-               malloc(n * sizeof(box)),
-               malloc(n * sizeof(uint64_t)),
-               malloc(n * sizeof(uint64_t)),
-               malloc(((size_t)1 << CLUSTER_BITS) * sizeof(cluster)),
-               malloc(((size_t)1 << CLUSTER_BITS) * sizeof(int))};
-  out->nodes = calloc(n, sizeof *out->nodes);
+  int chunks = (int)((n + CHUNK_TRIS - 1) / CHUNK_TRIS);
+  lbvh_build w = {.tris = tris, .n = (int)n, .chunks = chunks, .out = out};
+  w.b = (builder){.config = config,
+                  .leaf_size = config->max_leaf_size / 4 > 1 ? config->max_leaf_size / 4 : 1,
+                  .top_bins = config->bins < TOP_MAX_BINS ? config->bins : TOP_MAX_BINS,
+                  .depth_limit = depth_limit};
+  w.prim_box = malloc(n * sizeof(box));
+  w.b.sorted_box = malloc(n * sizeof(box));
+  w.chunk_centroids = malloc((size_t)chunks * sizeof(box));
+  w.keys = malloc((n > (1 << CLUSTER_BITS) ? n : (1 << CLUSTER_BITS)) * sizeof(uint64_t));
+  w.tmp = malloc((n > (1 << CLUSTER_BITS) ? n : (1 << CLUSTER_BITS)) * sizeof(uint64_t));
+  w.digits = malloc((size_t)chunks * (1 << RADIX_BITS) * sizeof(uint32_t));
+  w.b.clusters = malloc(((size_t)1 << CLUSTER_BITS) * sizeof(cluster));
+  w.b.cluster_index = malloc(((size_t)1 << CLUSTER_BITS) * sizeof(int));
+  w.order = malloc(((size_t)1 << CLUSTER_BITS) * sizeof(int));
+  out->nodes = malloc(n * sizeof *out->nodes); /* n nodes hold the top and every reserved range */
   out->tris = malloc(n * sizeof *out->tris);
   lt_status status = LT_OK;
-  if (s.prim_box && s.sorted_box && s.keys && s.tmp && s.clusters && s.cluster_index && out->nodes && out->tris) {
-    build_all(tris, n, config, depth_limit, &s, out);
+  void *keys = w.keys, *tmp = w.tmp; /* the sort swaps them */
+  if (w.prim_box && w.b.sorted_box && w.chunk_centroids && w.keys && w.tmp && w.digits && w.b.clusters &&
+      w.b.cluster_index && w.order && out->nodes && out->tris) {
+    /* Threads pay off only past a few chunks of triangles: starting them costs more than a
+     * small scene's whole build. */
+    build_all(&w, n >= PARALLEL_MIN_TRIS ? executor : NULL);
+    /* Give back the node array's unused tail. */
+    lt_bvh_node *fit = out->node_count > 0 ? realloc(out->nodes, (size_t)out->node_count * sizeof *out->nodes) : NULL;
+    if (fit) out->nodes = fit;
   } else {
     lt__bvh_free(out);
     status = LT_ERROR_OUT_OF_MEMORY;
   }
-  free(s.prim_box), free(s.sorted_box), free(s.keys), free(s.tmp), free(s.clusters), free(s.cluster_index);
+  free(w.prim_box), free(w.b.sorted_box), free(w.chunk_centroids), free(keys), free(tmp), free(w.digits);
+  free(w.b.clusters), free(w.b.cluster_index), free(w.order);
   return status;
+}
+
+lt_status lt__bvh_build_lbvh_limited(const float *tris, size_t n, const lt__sah_config *config, int depth_limit,
+                                     lt__bvh *out) {
+  return lt__bvh_build_lbvh_with(tris, n, config, depth_limit, NULL, out);
 }
 
 lt_status lt__bvh_build_lbvh(const float *tris, size_t n, const lt__sah_config *config, lt__bvh *out) {

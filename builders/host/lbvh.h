@@ -5,6 +5,7 @@
 #include <stddef.h>
 
 #include "builders/host/bvh_sah.h"
+#include "builders/host/executor.h"
 
 /* Builds over n triangles of 9 floats each into the flat format of lt__bvh_build_sah (free it
  * with lt__bvh_free). A NULL config means lt__sah_config_default(). Of the config, leaves hold at
@@ -17,5 +18,12 @@ lt_status lt__bvh_build_lbvh(const float *tris, size_t n, const lt__sah_config *
  * depth_limit - 1 is always a leaf. Lets tests reach the forced leaves on small scenes. */
 lt_status lt__bvh_build_lbvh_limited(const float *tris, size_t n, const lt__sah_config *config, int depth_limit,
                                      lt__bvh *out);
+
+/* The same build with its loops run by an executor (NULL, or under 32768 triangles: on the
+ * calling thread): triangle boxes, Morton codes, the radix sort's passes, the clusters' boxes,
+ * their Karras hierarchies and the triangles in leaf order run in parallel; the SAH top over at
+ * most 4096 clusters runs on the calling thread. The tree is the same, node for node, whatever the number of workers. */
+lt_status lt__bvh_build_lbvh_with(const float *tris, size_t n, const lt__sah_config *config, int depth_limit,
+                                  const lt__executor *executor, lt__bvh *out);
 
 #endif

@@ -1,0 +1,202 @@
+/* The on-demand paper's Table 5 in shape (Vinkler et al. 2016, section 5): animated scenes whose
+ * structure is rebuilt from scratch every frame, and the average time to image per frame over
+ * the animation for primary rays, primary + AO rays and primary + diffuse rays, with Embree 3's
+ * low-quality (Morton) and default builds beside lazytrace's methods:
+ *
+ *   bench_frames [--runs R] [--size N] [--frames F] [--samples S] [--csv FILE] SCENE...
+ *
+ * SCENE is anything lt_scene_load takes that moves (explode:BASE, a scene file with keyframes).
+ * Every frame moves the scene (lt_scene_set_time), makes its rays (camera rays, then AO or
+ * diffuse rays from the full BVH's primary hits: the same rays for every method) and runs every
+ * method on them, methods interleaved frame by frame and run by run. A method's figure is the
+ * median over runs of its mean over frames. The lazytrace methods' closest hits are checked
+ * against the full build's, frame by frame. Markdown to stdout, CSV to --csv FILE. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lazytrace.h"
+#include "benchmarks/median.h"
+#include "benchmarks/methods.h"
+#ifdef LT_HAVE_EMBREE
+#include "benchmarks/embree_peer.h"
+#endif
+
+#define MAX_RUNS 16
+#define METHODS LT_BENCH_METHODS
+enum { FULL = LT_BENCH_FULL, EMBREE = LT_BENCH_EMBREE, EMBREE_LOW = LT_BENCH_EMBREE_LOW };
+
+/* The table's columns, in order. */
+static const int columns[] = {LT_BENCH_FULL,         LT_BENCH_REQUESTED,   LT_BENCH_SPECULATIVE,
+                              LT_BENCH_KD_FULL,      LT_BENCH_KD_REQUESTED, LT_BENCH_KD_SPECULATIVE,
+                              LT_BENCH_LBVH,         LT_BENCH_EMBREE_LOW,   LT_BENCH_EMBREE};
+#define COLUMNS (int)(sizeof columns / sizeof *columns)
+
+typedef enum { PRIMARY, AO, DIFFUSE, WORKLOADS } workload;
+static const char *const workload_names[WORKLOADS] = {"primary", "primary + AO", "primary + diffuse"};
+
+/* One method's time per frame summed over the frames of each run, and the nodes built. */
+typedef struct figures {
+  double sum[MAX_RUNS], build[MAX_RUNS], nodes;
+  int ok;
+} figures;
+
+static lt_context *native_context(void) {
+  static lt_context *ctx;
+  lt_context_config config = {LT_DEVICE_NATIVE, 0, 0, 0, 1};
+  if (!ctx && lt_context_create(&config, &ctx) != LT_OK) return NULL;
+  return ctx;
+}
+
+/* One frame of one method: build, then the batches (rays[0] closest hit, rays[1] if any, of
+ * the workload's query); the last batch's hits in hits. Returns nonzero on failure. */
+static int run_frame(const lt_scene *scene, int method, const lt_ray *const rays[2], const size_t count[2], int any,
+                     lt_hit *hits, double *ms, double *build_ms, double *nodes) {
+  int batches = count[1] ? 2 : 1;
+  if (method == EMBREE || method == EMBREE_LOW) {
+#ifdef LT_HAVE_EMBREE
+    lt_embree *e = lt_embree_build_quality(scene, lt_context_work_groups(native_context()),
+                                           method == EMBREE_LOW ? LT_EMBREE_LOW : LT_EMBREE_MEDIUM, build_ms);
+    if (!e) return 1;
+    *ms = *build_ms;
+    for (int b = 0; b < batches; b++) *ms += lt_embree_trace(e, rays[b], count[b], b == 1 && any, hits);
+    lt_embree_release(e);
+    *nodes = -1;
+    return 0;
+#else
+    return 1;
+#endif
+  }
+  lt_structure_config config = lt_bench_method_config(method);
+  lt_stats *stats;
+  lt_structure *s = NULL;
+  if (lt_stats_create(&stats)) return 1;
+  lt_status status = lt_structure_create(native_context(), scene, &config, stats, &s);
+  for (int b = 0; !status && b < batches; b++)
+    status = lt_structure_trace(s, rays[b], count[b], b == 1 && any ? LT_QUERY_ANY : LT_QUERY_CLOSEST, hits, stats);
+  if (status) fprintf(stderr, "%s: %s\n", lt_bench_method_names[method], lt_last_error());
+  *ms = lt_stats_get(stats, "total_ms"), *build_ms = lt_stats_get(stats, "build_ms");
+  *nodes = lt_stats_get(stats, "nodes_built");
+  lt_structure_destroy(s);
+  lt_stats_destroy(stats);
+  return status != LT_OK;
+}
+
+/* Every frame of one workload, every method, `runs` times. */
+static int run_workload(lt_scene *scene, workload w, int runs, int size, int frames, int samples, float ao_distance,
+                        figures f[METHODS]) {
+  size_t n = (size_t)size * size, most = n * (size_t)samples;
+  lt_ray *primary = malloc(n * sizeof *primary), *secondary = malloc((most + 1) * sizeof *secondary);
+  lt_hit *ref = malloc((most + 1) * sizeof *ref), *hits = malloc((most + 1) * sizeof *hits);
+  if (!primary || !secondary || !ref || !hits) return fprintf(stderr, "out of memory\n"), 1;
+  memset(f, 0, METHODS * sizeof *f);
+  int failed = 0;
+  for (int frame = 0; frame < frames && !failed; frame++) {
+    /* The frame's rays: camera rays, then AO or diffuse rays from the full BVH's hits. */
+    lt_scene_set_time(scene, lt_frame_time(frame, frames));
+    lt_camera cam = lt_scene_camera(scene);
+    lt_camera_primary_rays(&cam, size, size, primary);
+    const lt_ray *rays[2] = {primary, secondary};
+    size_t count[2] = {n, 0};
+    if (w != PRIMARY) {
+      double ms, build, nodes;
+      size_t zero[2] = {n, 0};
+      if (run_frame(scene, FULL, rays, zero, 0, hits, &ms, &build, &nodes)) return 1;
+      count[1] = lt_ao_rays(scene, primary, hits, n, samples, w == AO ? ao_distance : INFINITY, 1 + (uint64_t)frame,
+                            secondary);
+    }
+    for (int run = 0; run < runs && !failed; run++)
+      for (int c = 0; c < COLUMNS && !failed; c++) {
+        int m = columns[c];
+        double ms, build, nodes;
+        if (run_frame(scene, m, rays, count, w == AO, m == FULL ? ref : hits, &ms, &build, &nodes)) {
+          if (m == EMBREE || m == EMBREE_LOW) continue; /* no Embree here: its columns stay empty */
+          failed = 1;
+          break;
+        }
+        f[m].sum[run] += ms, f[m].build[run] += build, f[m].ok = 1;
+        if (run == 0) f[m].nodes += nodes;
+
+        /* Closest hits (primary, diffuse) must be the full build's, ray for ray. */
+        size_t last = count[1] ? count[1] : count[0];
+        if (m != FULL && m != EMBREE && m != EMBREE_LOW && w != AO)
+          for (size_t i = 0; i < last; i++)
+            if (hits[i].prim != ref[i].prim || (hits[i].prim >= 0 && hits[i].t != ref[i].t)) {
+              fprintf(stderr, "%s: frame %d: hit %zu differs from the full build's\n", lt_bench_method_names[m],
+                      frame, i);
+              failed = 1;
+              break;
+            }
+      }
+    fprintf(stderr, "  %s, frame %d of %d: %zu rays\n", workload_names[w], frame + 1, frames, count[0] + count[1]);
+  }
+  lt_scene_set_time(scene, 0.0);
+  free(primary), free(secondary), free(ref), free(hits);
+  return failed;
+}
+
+/* A method's average milliseconds per frame (of v: sum or build): the median over runs of the
+ * mean over frames. */
+static double per_frame(const double *v, int runs, int frames) {
+  double mean[MAX_RUNS];
+  for (int r = 0; r < runs; r++) mean[r] = v[r] / frames;
+  return lt_bench_median(mean, runs);
+}
+
+int main(int argc, char **argv) {
+  int runs = 3, size = 256, frames = 8, samples = 8, first = 1;
+  FILE *csv = NULL;
+  for (; first + 1 < argc && argv[first][0] == '-'; first += 2) {
+    const char *o = argv[first], *v = argv[first + 1];
+    if (strcmp(o, "--runs") == 0) runs = atoi(v);
+    else if (strcmp(o, "--size") == 0) size = atoi(v);
+    else if (strcmp(o, "--frames") == 0) frames = atoi(v);
+    else if (strcmp(o, "--samples") == 0) samples = atoi(v);
+    else if (strcmp(o, "--csv") == 0 && !(csv = fopen(v, "w"))) return fprintf(stderr, "%s: cannot write\n", v), 1;
+    else if (strcmp(o, "--csv") != 0) return fprintf(stderr, "unknown option %s\n", o), 2;
+  }
+  if (first >= argc || runs < 1 || runs > MAX_RUNS || size < 1 || frames < 1 || samples < 1)
+    return fprintf(stderr, "usage: bench_frames [--runs 1-%d] [--size N] [--frames F] [--samples S] [--csv FILE] "
+                           "SCENE...\n", MAX_RUNS), 2;
+  if (!native_context()) return fprintf(stderr, "%s\n", lt_last_error()), 1;
+  if (csv) fprintf(csv, "scene,workload,method,ms_per_frame,build_ms_per_frame,nodes_per_frame\n");
+
+  printf("| scene, rays per frame | full BVH | BVH_R | BVH_A | Kd | Kd_R | Kd_A | LBVH | Embree low | Embree default |"
+         " best on-demand / Embree low |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (int i = first; i < argc; i++) {
+    lt_scene *scene;
+    if (lt_scene_load(argv[i], &scene) != LT_OK) return fprintf(stderr, "%s\n", lt_last_error()), 1;
+    fprintf(stderr, "%s: %zu triangles, %s\n", argv[i], lt_scene_triangle_count(scene),
+            lt_scene_is_animated(scene) ? "animated" : "static (every frame the same)");
+    float lo[3], hi[3];
+    lt_scene_bounds(scene, lo, hi);
+    float diag = sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    for (int w = 0; w < WORKLOADS; w++) {
+      figures f[METHODS];
+      if (run_workload(scene, (workload)w, runs, size, frames, samples, 0.05f * diag, f)) return 1;
+      if (w == PRIMARY) printf("| %s, primary |", argv[i]);
+      else printf("| %s, %s (%d samples) |", argv[i], workload_names[w], samples);
+      double best = INFINITY;
+      for (int c = 0; c < COLUMNS; c++) {
+        int m = columns[c];
+        double ms = f[m].ok ? per_frame(f[m].sum, runs, frames) : -1.0;
+        if (ms >= 0) printf(" %.1f |", ms);
+        else printf(" - |");
+        if (ms >= 0 && (m == LT_BENCH_REQUESTED || m == LT_BENCH_SPECULATIVE || m == LT_BENCH_KD_REQUESTED ||
+                        m == LT_BENCH_KD_SPECULATIVE) && ms < best)
+          best = ms;
+        if (csv && ms >= 0)
+          fprintf(csv, "%s,%s,%s,%.2f,%.2f,%.0f\n", argv[i], workload_names[w], lt_bench_method_names[m], ms,
+                  per_frame(f[m].build, runs, frames), f[m].nodes / frames);
+      }
+      if (f[EMBREE_LOW].ok) printf(" %.2f |\n", best / per_frame(f[EMBREE_LOW].sum, runs, frames));
+      else printf(" - |\n");
+      fflush(stdout);
+    }
+    lt_scene_destroy(scene);
+  }
+  if (csv) fclose(csv);
+  return 0;
+}
