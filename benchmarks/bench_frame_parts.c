@@ -23,9 +23,9 @@
 #include "benchmarks/median.h"
 #include "lazytrace.h"
 
-#define FRAMES   20
-#define MAX_RUNS 16
-#define AGENTS   100
+#define FRAMES    20
+#define MAX_RUNS  16
+#define AGENTS    100
 #define PER_AGENT 8
 
 enum { SETUP, PATH, FRAME, TRACE, NODES, PARTS };
@@ -102,14 +102,18 @@ int main(int argc, char **argv) {
   lt_context *ctx;
   lt_context_config cc = {LT_DEVICE_NATIVE, 0, 0, 0, 1};
   if (lt_context_create(&cc, &ctx) != LT_OK) return fprintf(stderr, "%s\n", lt_last_error()), 1;
-  printf("| scene | triangles | nodes per frame | frame ms | set-up ms | top path ms | other requested nodes ms |"
-         " trace ms |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  printf(
+      "| scene | triangles | nodes per frame | frame ms | set-up ms | top path ms | other requested nodes ms |"
+      " trace ms |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int i = 1; i < argc; i++) {
-    if (strcmp(argv[i], "--runs") == 0 && i + 1 < argc) runs = atoi(argv[++i]);
+    if (strcmp(argv[i], "--runs") == 0 && i + 1 < argc)
+      runs = atoi(argv[++i]);
     else if (strcmp(argv[i], "--build") == 0 && i + 1 < argc)
       build = strcmp(argv[++i], "speculative") == 0 ? LT_BUILD_SPECULATIVE : LT_BUILD_REQUESTED;
-    else if (runs < 1 || runs > MAX_RUNS) return fprintf(stderr, "bench_frame_parts: --runs 1 to %d\n", MAX_RUNS), 2;
-    else if (parts(ctx, argv[i], build, runs)) return 1;
+    else if (runs < 1 || runs > MAX_RUNS)
+      return fprintf(stderr, "bench_frame_parts: --runs 1 to %d\n", MAX_RUNS), 2;
+    else if (parts(ctx, argv[i], build, runs))
+      return 1;
   }
   lt_context_destroy(ctx);
   return 0;

@@ -72,7 +72,9 @@ const char *lt_embree_quality_name(lt_embree_quality quality) {
 }
 
 static enum RTCBuildQuality embree_quality(lt_embree_quality quality) {
-  return quality == LT_EMBREE_LOW ? RTC_BUILD_QUALITY_LOW : quality == LT_EMBREE_HIGH ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM;
+  return quality == LT_EMBREE_LOW    ? RTC_BUILD_QUALITY_LOW
+         : quality == LT_EMBREE_HIGH ? RTC_BUILD_QUALITY_HIGH
+                                     : RTC_BUILD_QUALITY_MEDIUM;
 }
 
 lt_embree *lt_embree_build(const lt_scene *scene, int threads, double *build_ms) {

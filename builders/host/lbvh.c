@@ -380,7 +380,8 @@ static void count_chunk(void *ctx, int chunk) {
   lbvh_build *w = ctx;
   uint32_t *count = w->digits + (size_t)chunk * (1 << RADIX_BITS);
   memset(count, 0, (1 << RADIX_BITS) * sizeof *count);
-  for (int i = chunk * CHUNK_TRIS; i < chunk_end(w, chunk); i++) count[(w->keys[i] >> w->shift) & ((1 << RADIX_BITS) - 1)]++;
+  for (int i = chunk * CHUNK_TRIS; i < chunk_end(w, chunk); i++)
+    count[(w->keys[i] >> w->shift) & ((1 << RADIX_BITS) - 1)]++;
 }
 
 static void scatter_chunk(void *ctx, int chunk) {
@@ -421,8 +422,7 @@ static void radix_sort(lbvh_build *w, const lt__executor *ex, uint64_t *ops) {
 
 static void gather_chunk(void *ctx, int chunk) {
   lbvh_build *w = ctx;
-  for (int i = chunk * CHUNK_TRIS; i < chunk_end(w, chunk); i++)
-    w->b.sorted_box[i] = w->prim_box[(uint32_t)w->keys[i]];
+  for (int i = chunk * CHUNK_TRIS; i < chunk_end(w, chunk); i++) w->b.sorted_box[i] = w->prim_box[(uint32_t)w->keys[i]];
 }
 
 static void cluster_bounds(void *ctx, int c) {
@@ -558,7 +558,8 @@ static void build_all(lbvh_build *w, const lt__executor *ex) {
   for (int c = 0; c < b->cluster_count; c++) {
     const cluster *cl = &b->clusters[c];
     if (cl->has_tree && cl->first != cl->reserved)
-      memmove(&b->nodes[cl->first], &b->nodes[cl->reserved], (size_t)(cl->tree.next_node - cl->reserved) * sizeof *b->nodes);
+      memmove(&b->nodes[cl->first], &b->nodes[cl->reserved],
+              (size_t)(cl->tree.next_node - cl->reserved) * sizeof *b->nodes);
   }
   out->node_count = total;
 
@@ -596,8 +597,7 @@ lt_status lt__bvh_build_lbvh_with(const float *tris, size_t n, const lt__sah_con
                                   const lt__executor *executor, lt__bvh *out) {
   lt__sah_config defaults = lt__sah_config_default();
   if (!config) config = &defaults;
-  if (!tris || !out || n == 0 || n > INT32_MAX / 2)
-    return LT_ERROR_INVALID_ARGUMENT;
+  if (!tris || !out || n == 0 || n > INT32_MAX / 2) return LT_ERROR_INVALID_ARGUMENT;
   if (config->bins < 2 || config->max_leaf_size < 1 || depth_limit < 2 || depth_limit > LT_BVH_MAX_DEPTH)
     return LT_ERROR_INVALID_ARGUMENT;
 

@@ -22,7 +22,8 @@ lt_status lt__bvh_build_lbvh_limited(const float *tris, size_t n, const lt__sah_
 /* The same build with its loops run by an executor (NULL, or under 32768 triangles: on the
  * calling thread): triangle boxes, Morton codes, the radix sort's passes, the clusters' boxes,
  * their Karras hierarchies and the triangles in leaf order run in parallel; the SAH top over at
- * most 4096 clusters runs on the calling thread. The tree is the same, node for node, whatever the number of workers. */
+ * most 4096 clusters runs on the calling thread. The tree is the same, node for node, whatever
+ * the number of workers. */
 lt_status lt__bvh_build_lbvh_with(const float *tris, size_t n, const lt__sah_config *config, int depth_limit,
                                   const lt__executor *executor, lt__bvh *out);
 
