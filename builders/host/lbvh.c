@@ -629,9 +629,15 @@ lt_status lt__bvh_build_lbvh_with(const float *tris, size_t n, const lt__sah_con
     /* Threads pay off only past a few chunks of triangles: starting them costs more than a
      * small scene's whole build. */
     build_all(&w, n >= PARALLEL_MIN_TRIS ? executor : NULL);
-    /* Give back the node array's unused tail. */
-    lt_bvh_node *fit = out->node_count > 0 ? realloc(out->nodes, (size_t)out->node_count * sizeof *out->nodes) : NULL;
-    if (fit) out->nodes = fit;
+    /* Give back the node array's unused tail. A failure here is reported like every other
+     * failed allocation of the build: one rule, whichever allocation it was. */
+    lt_bvh_node *fit = realloc(out->nodes, (size_t)(out->node_count > 0 ? out->node_count : 1) * sizeof *out->nodes);
+    if (fit) {
+      out->nodes = fit;
+    } else {
+      lt__bvh_free(out);
+      status = LT_ERROR_OUT_OF_MEMORY;
+    }
   } else {
     lt__bvh_free(out);
     status = LT_ERROR_OUT_OF_MEMORY;
