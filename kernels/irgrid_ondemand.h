@@ -1,7 +1,8 @@
 /* The irregular grid's workload (Perard-Gayot et al. 2017, with cells on demand): work-groups
  * trace rays through the grid (traversal/irgrid_traverse.h) and build the top cells they wait
  * for, or, out of rays, the top cells nobody asked for yet (builders/irgrid_task.h), in one
- * persistent loop. A full build is the same launch without rays. */
+ * persistent loop. A full build is the same launch without rays, and, merging across the grid,
+ * a second launch of the merge passes (lt_irg_merge_kernel). */
 #ifndef LT_KERNEL_IRGRID_ONDEMAND_H
 #define LT_KERNEL_IRGRID_ONDEMAND_H
 
