@@ -1,6 +1,9 @@
-/* The irregular grid's GLOBAL task: the paper's merge passes across top cells, then the
- * expansion passes, over the whole grid once every top cell is built (full builds only: on
- * demand a neighbour may never be built, and a built cell must not change under a ray).
+/* The irregular grid's MERGE tasks: the paper's merge passes across top cells, one task a
+ * pass, over the whole grid once every top cell is built (full builds only: on demand a
+ * neighbour may never be built, and a built cell must not change under a ray). They run in a
+ * launch of their own after the one that built the top cells (kernels/irgrid_ondemand.h says
+ * why), whose set-up inserts the first pass; each pass hands its slot on to the next, or to the
+ * first EXPAND pass over every cell (builders/irgrid_expand.h) once a pass merges too few.
  *
  * A pass along axis a has two phases over chunks of cells. Candidates: each live cell finds
  * the cell beyond its upper face (through the voxel map) and, when the two have the same
@@ -10,20 +13,17 @@
  * list to new room in the reference heap (the old lists stay: the heap never frees), grows the
  * lower cell over the upper one, kills the upper one and points its voxels at the lower one.
  * Pairs are disjoint, so chunks never write the same cell or voxel. Passes go round the axes
- * until one merges fewer than 1 - alpha of the live cells. The expansion phase grows every
- * live cell as a CELL task does (builders/irgrid_task.h), reading its neighbours' cells. */
+ * until one merges fewer than 1 - alpha of the live cells. */
 #ifndef LT_IRGRID_GLOBAL_H
 #define LT_IRGRID_GLOBAL_H
 
-#include "builders/irgrid_task.h"
+#include "builders/irgrid_expand.h"
 
 /* Scratch per cell: the candidate (then the partner of a pair's lower cell), the union's size,
  * and whether a candidate points at it. */
 #define LT_IRG_CAND(b, j) ((b)->cell_scratch[3 * (long)(j)])
 #define LT_IRG_UNION(b, j) ((b)->cell_scratch[3 * (long)(j) + 1])
 #define LT_IRG_POINTED(b, j) ((b)->cell_scratch[3 * (long)(j) + 2])
-
-LT_DEVICE int lt_irg_dead(LT_GLOBAL const lt_irg_cell *cell) { return cell->lo[0] < 0; }
 
 /* The size of the union of two ascending lists. */
 LT_DEVICE lt_i32 lt_irg_union_size(LT_GLOBAL const lt_i32 *a, lt_i32 na, LT_GLOBAL const lt_i32 *b, lt_i32 nb) {
@@ -115,27 +115,15 @@ LT_DEVICE void lt_irg_global_merge(const lt_irg_build *b, lt_i32 j, int a) {
   lt_irg_point_voxels(b, dlo, dhi, j);
 }
 
-LT_DEVICE void lt_irg_global_chunk(const lt_irg_build *b, lt_i32 slot, lt_i32 chunk, int lid, int lsize) {
-  LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
-  int stage = task->work[LT_IRG_W_STAGE], a = task->work[LT_IRG_W_PASS] % 3;
-  lt_i32 first = chunk * LT_IRG_GLOBAL_CHUNK, end = first + LT_IRG_GLOBAL_CHUNK, cells = task->work[LT_IRG_W_CELLS];
-  end = end < cells ? end : cells;
+/* Phase 0 finds the chunk's candidates, phase 1 merges its pairs. */
+LT_DEVICE void lt_irg_merge_chunk(const lt_irg_build *b, lt_i32 slot, lt_i32 chunk, int lid, int lsize) {
+  LT_GLOBAL const lt_task *task = &b->pool.tasks[slot];
+  int a = task->work[LT_IRG_W_PASS] % 3;
+  lt_i32 first, end;
+  lt_irg_chunk_cells(task, chunk, &first, &end);
   for (lt_i32 j = first + lid; j < end; j += lsize) {
-    if (stage == LT_IRG_STAGE_CANDIDATES) {
-      lt_irg_global_candidate(b, j, a);
-    } else if (stage == LT_IRG_STAGE_MERGE) {
-      if (LT_IRG_CAND(b, j) >= 0) lt_irg_global_merge(b, j, a);
-    } else if (!lt_irg_dead(&b->cells[j])) {
-      LT_GLOBAL lt_irg_cell *c = &b->cells[j];
-      int lo[3] = {c->lo[0], c->lo[1], c->lo[2]}, hi[3] = {c->hi[0], c->hi[1], c->hi[2]};
-      /* Layers as thick as the cell's thinnest side, at least one voxel of the top cell it
-       * starts in. */
-      lt_i32 entry = b->top_map[lt_irg_top_of(b->fine_dims, b->shift, lo[0], lo[1], lo[2])];
-      lt_i32 check = 0;
-      lt_u32 grown = (lt_u32)lt_irg_expand(b, 0, &check, 1 << (b->shift - LT_IRG_ENTRY_LEVEL(entry)), lo, hi);
-      for (int k = 0; k < 3; k++) c->lo[k] = lo[k], c->hi[k] = hi[k];
-      lt_irg_count(b, LT_IRG_STAT_EXPANSIONS, grown);
-    }
+    if (task->phase == 0) lt_irg_global_candidate(b, j, a);
+    else if (LT_IRG_CAND(b, j) >= 0) lt_irg_global_merge(b, j, a);
   }
 }
 
@@ -158,32 +146,35 @@ LT_DEVICE lt_i32 lt_irg_global_pair(const lt_irg_build *b, lt_i32 cells) {
   return pairs;
 }
 
-LT_DEVICE void lt_irg_global_end(const lt_irg_build *b, lt_i32 slot) {
+/* After the candidates: pair them, and merge. After the merges: the next pass, or the first
+ * EXPAND pass over every cell, once this one merged fewer than 1 - alpha of the live cells. */
+LT_DEVICE void lt_irg_merge_end(const lt_irg_build *b, lt_i32 slot) {
   LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
-  lt_i32 cells = task->work[LT_IRG_W_CELLS], chunks = task->chunks;
-  int stage = task->work[LT_IRG_W_STAGE];
-  if (stage == LT_IRG_STAGE_CANDIDATES) {
-    task->work[LT_IRG_W_PAIRS] = lt_irg_global_pair(b, cells);
-    task->work[LT_IRG_W_STAGE] = LT_IRG_STAGE_MERGE;
+  if (task->phase == 0) {
+    task->work[LT_IRG_W_PAIRS] = lt_irg_global_pair(b, task->end);
     lt_fence();
-    lt_pool_next_phase(&b->pool, slot, task->phase + 1, chunks);
+    lt_pool_next_phase(&b->pool, slot, 1, task->chunks);
     return;
   }
-  if (stage == LT_IRG_STAGE_MERGE) {
-    lt_i32 pairs = task->work[LT_IRG_W_PAIRS], live = task->work[LT_IRG_W_LIVE];
-    lt_irg_count(b, LT_IRG_STAT_GLOBAL_MERGES, (lt_u32)pairs);
-    task->work[LT_IRG_W_LIVE] = live - pairs;
-    int again = pairs > 0 && !((float)pairs < (1.0f - b->merge_alpha) * (float)live);
-    task->work[LT_IRG_W_PASS] += again;
-    task->work[LT_IRG_W_STAGE] = again ? LT_IRG_STAGE_CANDIDATES : LT_IRG_STAGE_EXPAND;
-    if (again || b->expansion_passes > 0) {
-      lt_fence();
-      lt_pool_next_phase(&b->pool, slot, task->phase + 1, chunks);
-      return;
-    }
-  }
-  lt_fence();
-  lt_pool_retire(&b->pool, slot);
+  lt_i32 pairs = task->work[LT_IRG_W_PAIRS], live = task->work[LT_IRG_W_LIVE], pass = task->work[LT_IRG_W_PASS];
+  lt_irg_count(b, LT_IRG_STAT_GLOBAL_MERGES, (lt_u32)pairs);
+  int again = pairs > 0 && !((float)pairs < (1.0f - b->merge_alpha) * (float)live);
+  if (again || b->expansion_passes > 0)
+    lt_irg_hand_on(b, slot, again ? LT_IRG_KIND_MERGE : LT_IRG_KIND_EXPAND, -1, 0, again ? pass + 1 : 0, live - pairs,
+                   task->begin, task->end);
+  else
+    lt_pool_retire(&b->pool, slot);
+}
+
+/* The merge launch's start, once, by one work-item: the first MERGE pass over every cell
+ * (all top cells are built). */
+LT_DEVICE void lt_irg_merge_setup(const lt_irg_build *b) {
+  lt_i32 cells = lt_heap_used(&b->cell_heap);
+  lt_i32 chunks = lt_irg_cell_chunks(-1, 0, cells);
+  lt_i32 slot = lt_pool_insert(&b->pool, LT_IRG_KIND_MERGE, b->top_count + 1, 0, cells, 0, chunks);
+  if (slot < 0) return;
+  lt_irg_set_work(&b->pool.tasks[slot], -1, 0, 0, cells);
+  lt_pool_publish(&b->pool, slot);
 }
 
 #endif

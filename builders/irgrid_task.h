@@ -1,18 +1,27 @@
 /* The irregular grid's build as task-pool tasks (Perard-Gayot, Kalojanov and Slusallek 2017,
  * section 3), with its top cells materialised on demand (new here).
  *
- * Two kinds of task:
+ * The build's phases are tasks of their own kinds. The task that finishes a phase of a top
+ * cell turns into the task of the next phase (lt_irg_hand_on, lt_pool_next_kind), whose first
+ * chunk no work-group can take before the phase it needs is done:
  *
- *   COUNT  one task over all triangles, three phases whose chunks every work-group takes:
- *          0 counts the references of each top cell, 1 fills the top cells' lists, 2 sorts
- *          each list. Its phase ends take the lists' room from the reference heap and, last,
- *          insert one CELL task per top cell (waiting for a ray in a requested build). For a
- *          uniform grid (Thrane and Simonsen 2005) it is all there is: the top grid's lists
- *          are the uniform grid's cells, traced by traversal/grid_traverse.h.
- *   CELL   materialises one top cell, on one work-item: the initial subdivision into 8^level
- *          sub-voxels (level from the cell density lambda2 and the top cell's references), the
- *          SAH merge passes, the references of the cells that are left, the expansion passes,
- *          and last the top map's entry, which publishes it.
+ *   COUNT      one task over all triangles, three phases whose chunks every work-group takes:
+ *              0 counts the references of each top cell, 1 fills the top cells' lists, 2 sorts
+ *              each list. Its phase ends take the lists' room from the reference heap and,
+ *              last, insert one CELL task per top cell (waiting for a ray in a requested
+ *              build). For a uniform grid (Thrane and Simonsen 2005) it is all there is: the
+ *              top grid's lists are the uniform grid's cells (traversal/grid_traverse.h).
+ *   CELL       one top cell, on one work-item: the initial subdivision into 8^level sub-voxels
+ *              (level from the cell density lambda2 and the top cell's references), the SAH
+ *              merge passes within it, and the cells that are left with their references.
+ *   VOXEL_MAP  the top cell's sub-map, chunks of its cells spread over work-groups.
+ *   EXPAND     one expansion pass over the top cell's cells (chunks over work-groups); the
+ *              last pass publishes the top cell's map entry. In a full build with global
+ *              merging the top cells are published without it, and the MERGE passes across
+ *              the grid (builders/irgrid_global.h) hand on to EXPAND passes over every cell.
+ *
+ * A ray waiting for a top cell finds its slot in the top map, whichever phase runs there now,
+ * and a request (its priority) carries over from phase to phase.
  *
  * Merging (section 3.2). A pass along axis a pairs each cell with the cell beyond its upper
  * face when the two have the same extent on the other axes and merging lowers the cost
@@ -25,12 +34,7 @@
  * and come out the same whether the build is full or on demand (the paper merges across top
  * cells too; docs/notes/irgrid.md says what that changes).
  *
- * Expansion (section 3.3). A pass tries each face of each cell: it grows by one layer of the
- * cell's own sub-voxels when every triangle that meets the layer is one the cell references
- * already (meets its box before expansion), in this top cell or in a neighbouring one. Only
- * the top cells' lists are read, never a neighbour's cells, so a cell may grow into top cells
- * not built yet. A ray then leaves the grown box later and skips voxels whose triangles it has
- * just tested (traversal/irgrid_traverse.h shows why no hit is lost).
+ * Expansion (section 3.3): builders/irgrid_expand.h.
  *
  * References are conservative as in the uniform grid: a cell references every triangle whose
  * box meets its closed box, decided on the fine voxels that lt_grid_first_cell and
@@ -44,7 +48,13 @@
 #include "device/pool.h"
 
 /* Task kinds, as the irregular grid's workload numbers them (kernels/irgrid_ondemand.h). */
-enum { LT_IRG_KIND_COUNT = 0, LT_IRG_KIND_CELL = 1, LT_IRG_KIND_GLOBAL = 2 };
+enum {
+  LT_IRG_KIND_COUNT = 0,     /* the top grid's lists */
+  LT_IRG_KIND_CELL = 1,      /* one top cell: subdivision, merge passes within it, references */
+  LT_IRG_KIND_VOXEL_MAP = 2, /* one top cell's sub-map, from its cells */
+  LT_IRG_KIND_EXPAND = 3,    /* one expansion pass over a top cell's cells, or the whole grid's */
+  LT_IRG_KIND_MERGE = 4      /* one merge pass across top cells (full builds, builders/irgrid_global.h) */
+};
 
 /* Triangles per chunk of the counting phases, top cells per chunk of the sorting phase. */
 #define LT_IRG_COUNT_CHUNK 1024
@@ -262,7 +272,7 @@ LT_DEVICE void lt_irg_count_end(const lt_irg_build *b, lt_i32 slot) {
   }
 }
 
-/* ---- The CELL task: one top cell ---- */
+/* ---- The CELL task: one top cell's subdivision and merges ---- */
 
 /* A top cell being materialised: where it is and its scratch arrays. */
 typedef struct lt_irg_top {
@@ -394,110 +404,6 @@ LT_DEVICE lt_i32 lt_irg_merge_pass(const lt_irg_build *b, lt_irg_top *c, int a) 
   return merged;
 }
 
-/* A fine box [lo, hi) as the plane floats of its faces, which is how a triangle's box is
- * tested against it: the box meets the triangle's exactly when lt_irg_fine_range's voxels
- * meet it (first_cell(a) <= hi - 1 iff a <= plane(hi); last_cell(b) >= lo iff b >= plane(lo)). */
-typedef struct lt_irg_planes {
-  float lo[3], hi[3];
-} lt_irg_planes;
-
-LT_DEVICE lt_irg_planes lt_irg_planes_of(const lt_irg_build *b, const int lo[3], const int hi[3]) {
-  lt_irg_planes p;
-  for (int k = 0; k < 3; k++) {
-    lt_grid_axis a = lt_grid_axis_of(b->header, k);
-    p.lo[k] = lt_grid_plane(&a, lo[k]), p.hi[k] = lt_grid_plane(&a, hi[k]);
-  }
-  return p;
-}
-
-LT_DEVICE int lt_irg_prim_meets(const lt_irg_build *b, lt_i32 prim, const lt_irg_planes *p) {
-  LT_GLOBAL const lt_v4 *box = b->prim_boxes + 2 * (long)prim;
-  int meets = 1;
-  for (int k = 0; k < 3; k++) meets &= lt_v4_lane(box[0], k) <= p->hi[k] && lt_v4_lane(box[1], k) >= p->lo[k];
-  return meets;
-}
-
-/* Whether a triangle that meets the layer misses the cell's box before expansion. */
-LT_DEVICE int lt_irg_escapes(const lt_irg_build *b, lt_i32 prim, const lt_irg_planes *layer, const lt_irg_planes *own) {
-  return lt_irg_prim_meets(b, prim, layer) && !lt_irg_prim_meets(b, prim, own);
-}
-
-/* Looks at the triangles of one cell for lt_irg_covered; 0 when one escapes. */
-LT_DEVICE int lt_irg_cell_covered(const lt_irg_build *b, lt_i32 cell, const lt_irg_planes *layer, const lt_irg_planes *own) {
-  LT_GLOBAL const lt_irg_cell *p = &b->cells[cell];
-  for (lt_i32 i = p->begin; i < p->end; i++)
-    if (lt_irg_escapes(b, b->refs[i], layer, own)) return 0;
-  return 1;
-}
-
-/* Whether every triangle that meets fine box [lo, hi) (a layer beside a cell) meets the cell's
- * box before expansion (planes `own`) too. Each top cell the layer meets is read one way:
- * the one being built (c, or NULL) through its scratch map, a built one through its cells (a
- * cell's triangles include those of every voxel it holds), one not built through its list.
- * `check` stamps the scratch cells looked at, so each is read once. */
-LT_DEVICE int lt_irg_covered(const lt_irg_build *b, lt_irg_top *c, lt_i32 check, const int lo[3], const int hi[3],
-                             const lt_irg_planes *own) {
-  int tx = b->fine_dims.x >> b->shift, ty = b->fine_dims.y >> b->shift, span = 1 << b->shift;
-  lt_irg_planes layer = lt_irg_planes_of(b, lo, hi);
-  for (int z = lo[2] >> b->shift; z <= (hi[2] - 1) >> b->shift; z++)
-    for (int y = lo[1] >> b->shift; y <= (hi[1] - 1) >> b->shift; y++)
-      for (int x = lo[0] >> b->shift; x <= (hi[0] - 1) >> b->shift; x++) {
-        lt_i32 t = lt_grid_cell_index(tx, ty, x, y, z);
-        lt_i32 entry = c && t == c->t ? LT_IRG_ENTRY(c->level, 0) : lt_atomic_load_acquire_i32(&b->top_map[t]);
-        if (entry < 0) {
-          for (lt_i32 i = b->top_begin[t]; i < b->top_begin[t + 1]; i++)
-            if (lt_irg_escapes(b, b->refs[i], &layer, own)) return 0;
-          continue;
-        }
-        /* The layer's sub-voxels in this top cell, and their cells. */
-        int level = LT_IRG_ENTRY_LEVEL(entry), down = b->shift - level, side = 1 << level;
-        int origin[3] = {x << b->shift, y << b->shift, z << b->shift}, slo[3], shi[3];
-        for (int k = 0; k < 3; k++) {
-          int l = lo[k] - origin[k], h = hi[k] - 1 - origin[k];
-          slo[k] = (l < 0 ? 0 : l) >> down, shi[k] = (h > span - 1 ? span - 1 : h) >> down;
-        }
-        lt_i32 last = -1;
-        for (int sz = slo[2]; sz <= shi[2]; sz++)
-          for (int sy = slo[1]; sy <= shi[1]; sy++)
-            for (int sx = slo[0]; sx <= shi[0]; sx++) {
-              lt_i32 v = sx + side * (sy + side * sz);
-              if (c && t == c->t) {
-                lt_i32 j = c->smap[v];
-                if (c->stamp[j] == check) continue;
-                c->stamp[j] = check;
-                if (!lt_irg_cell_covered(b, c->cand[j], &layer, own)) return 0;
-              } else {
-                lt_i32 cell = b->sub_maps[LT_IRG_ENTRY_BASE(entry) + v];
-                if (cell == last) continue;
-                last = cell;
-                if (!lt_irg_cell_covered(b, cell, &layer, own)) return 0;
-              }
-            }
-      }
-  return 1;
-}
-
-/* The expansion passes over one cell (fine box lo, hi, grown in place by layers `step` fine
- * voxels thick); c is the top cell being built, if the cell is in it, and `check` numbers the
- * layer checks. Returns layers grown. */
-LT_DEVICE lt_i32 lt_irg_expand(const lt_irg_build *b, lt_irg_top *c, lt_i32 *check, int step, int lo[3], int hi[3]) {
-  lt_irg_planes own = lt_irg_planes_of(b, lo, hi);
-  int n[3] = {b->fine_dims.x, b->fine_dims.y, b->fine_dims.z};
-  lt_i32 grown = 0;
-  for (int pass = 0; pass < b->expansion_passes; pass++)
-    for (int face = 0; face < 6; face++) {
-      int k = face >> 1, up = face & 1;
-      int llo[3] = {lo[0], lo[1], lo[2]}, lhi[3] = {hi[0], hi[1], hi[2]};
-      if (up) llo[k] = hi[k], lhi[k] = hi[k] + step < n[k] ? hi[k] + step : n[k];
-      else lhi[k] = lo[k], llo[k] = lo[k] - step > 0 ? lo[k] - step : 0;
-      if (llo[k] >= lhi[k] || !lt_irg_covered(b, c, (*check)++, llo, lhi, &own)) continue;
-      if (up) hi[k] = lhi[k];
-      else lo[k] = llo[k];
-      grown++;
-    }
-  return grown;
-}
-
 /* Fails the build for a full heap (or an impossible map offset) and says so. */
 LT_DEVICE int lt_irg_heap_failed(const lt_irg_build *b, lt_i32 at) {
   if (at >= 0) return 0;
@@ -505,28 +411,67 @@ LT_DEVICE int lt_irg_heap_failed(const lt_irg_build *b, lt_i32 at) {
   return 1;
 }
 
-/* The GLOBAL task (builders/irgrid_global.h): its work words and chunk size. */
-#define LT_IRG_GLOBAL_CHUNK 256
-#define LT_IRG_W_PASS 0  /* merge pass, from 0 */
-#define LT_IRG_W_STAGE 1 /* LT_IRG_STAGE_* */
-#define LT_IRG_W_CELLS 2 /* cells when it started: the range its chunks cover */
-#define LT_IRG_W_LIVE 3  /* live cells before this pass */
-#define LT_IRG_W_PAIRS 4 /* pairs this pass merges */
-enum { LT_IRG_STAGE_CANDIDATES = 0, LT_IRG_STAGE_MERGE, LT_IRG_STAGE_EXPAND };
+/* ---- Handing a top cell on from phase to phase ---- */
 
-/* Inserts the GLOBAL task over every cell made so far (all top cells are built). */
-LT_DEVICE void lt_irg_spawn_global(const lt_irg_build *b) {
-  lt_i32 cells = lt_heap_used(&b->cell_heap);
-  lt_i32 chunks = (cells + LT_IRG_GLOBAL_CHUNK - 1) / LT_IRG_GLOBAL_CHUNK;
-  lt_i32 slot = lt_pool_insert(&b->pool, LT_IRG_KIND_GLOBAL, b->top_count + 1, 0, cells, 0, chunks > 0 ? chunks : 1);
-  if (slot < 0) return;
-  LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
-  task->work[LT_IRG_W_STAGE] = LT_IRG_STAGE_CANDIDATES;
-  task->work[LT_IRG_W_CELLS] = cells, task->work[LT_IRG_W_LIVE] = cells;
-  lt_pool_publish(&b->pool, slot);
+/* Work words of the tasks after COUNT (task->work). */
+#define LT_IRG_W_PASS 0  /* merge or expansion pass, from 0 */
+#define LT_IRG_W_TOP 1   /* the top cell the task builds, or -1: the whole grid */
+#define LT_IRG_W_ENTRY 2 /* that top cell's map entry, published by its last task */
+#define LT_IRG_W_CHUNK 3 /* cells per chunk */
+#define LT_IRG_W_LIVE 4  /* MERGE: live cells before this pass */
+#define LT_IRG_W_PAIRS 5 /* MERGE: pairs this pass merges */
+
+/* Cells per chunk of a task over one top cell's cells, and over the whole grid's. */
+#define LT_IRG_TOP_CHUNK 64
+#define LT_IRG_GLOBAL_CHUNK 256
+
+/* Whether MERGE tasks merge across top cells once all are built (full builds only: a launch
+ * of their own, kernels/irgrid_ondemand.h). */
+LT_DEVICE int lt_irg_merges_later(const lt_irg_build *b) { return b->global_merge && b->pool.mode == LT_POOL_FULL; }
+
+/* A cell a global merge folded into its partner. */
+LT_DEVICE int lt_irg_dead(LT_GLOBAL const lt_irg_cell *cell) { return cell->lo[0] < 0; }
+
+/* A task's work words for a step over cells of top cell t (or, t < 0, the whole grid). */
+LT_DEVICE void lt_irg_set_work(LT_GLOBAL lt_task *task, lt_i32 t, lt_i32 entry, lt_i32 pass, lt_i32 live) {
+  task->work[LT_IRG_W_PASS] = pass, task->work[LT_IRG_W_TOP] = t, task->work[LT_IRG_W_ENTRY] = entry;
+  task->work[LT_IRG_W_CHUNK] = t < 0 ? LT_IRG_GLOBAL_CHUNK : LT_IRG_TOP_CHUNK, task->work[LT_IRG_W_LIVE] = live;
 }
 
-/* Materialises the task's top cell and publishes it. */
+/* Chunks of a task over cells [begin, end) of top cell t (or, t < 0, the whole grid). */
+LT_DEVICE lt_i32 lt_irg_cell_chunks(lt_i32 t, lt_i32 begin, lt_i32 end) {
+  lt_i32 chunk = t < 0 ? LT_IRG_GLOBAL_CHUNK : LT_IRG_TOP_CHUNK, chunks = (end - begin + chunk - 1) / chunk;
+  return chunks > 0 ? chunks : 1;
+}
+
+/* Hands top cell t (or, t < 0, the whole grid) on from the task in `slot`, whose phase is
+ * done, to its next step: the slot becomes a task of `kind` over cells [begin, end)
+ * (lt_pool_next_kind), so a ray waiting for the top cell, which names the slot, asks for the
+ * step that is running now, and a request carries over. */
+LT_DEVICE void lt_irg_hand_on(const lt_irg_build *b, lt_i32 slot, lt_i32 kind, lt_i32 t, lt_i32 entry, lt_i32 pass,
+                              lt_i32 live, lt_i32 begin, lt_i32 end) {
+  lt_irg_set_work(&b->pool.tasks[slot], t, entry, pass, live);
+  lt_fence();
+  lt_pool_next_kind(&b->pool, slot, kind, begin, end, lt_irg_cell_chunks(t, begin, end));
+}
+
+/* The cells [first, end) of chunk `chunk` of a task over cells. */
+LT_DEVICE void lt_irg_chunk_cells(LT_GLOBAL const lt_task *task, lt_i32 chunk, lt_i32 *first, lt_i32 *end) {
+  *first = task->begin + chunk * task->work[LT_IRG_W_CHUNK];
+  *end = *first + task->work[LT_IRG_W_CHUNK] < task->end ? *first + task->work[LT_IRG_W_CHUNK] : task->end;
+}
+
+/* Publishes built top cell t: its cells and sub-map first, then the entry; and retires the
+ * task in `slot`, the top cell's last. */
+LT_DEVICE void lt_irg_publish_top(const lt_irg_build *b, lt_i32 slot, lt_i32 t, lt_i32 entry) {
+  lt_irg_count(b, LT_IRG_STAT_TOP_BUILT, 1);
+  lt_fence();
+  lt_atomic_store_i32(&b->top_map[t], entry);
+  lt_atomic_add_i32(&b->control[LT_IRG_CONTROL_TOPS_LEFT], -1);
+  lt_pool_retire(&b->pool, slot);
+}
+
+/* Materialises the task's top cell: subdivision, merge passes, the cells and their references. */
 LT_DEVICE void lt_irg_build_top(const lt_irg_build *b, lt_i32 slot) {
   LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
   lt_irg_top c;
@@ -612,41 +557,62 @@ LT_DEVICE void lt_irg_build_top(const lt_irg_build *b, lt_i32 slot) {
           }
     }
   }
-  for (lt_i32 v = 0; v < c.voxels; v++) b->sub_maps[map + v] = c.cand[c.smap[v]];
 
-  /* Each cell's fine box, grown by the expansion passes unless a GLOBAL task is to merge
-   * and grow them later (stamps from here number checks). */
-  lt_u32 grown = 0;
-  lt_i32 check = 0;
-  int later = b->global_merge && b->pool.mode == LT_POOL_FULL;
-  for (lt_i32 j = 0; j < c.voxels; j++) c.stamp[j] = -1;
+  /* Each cell's fine box as merging left it; VOXEL_MAP writes the sub-map from these boxes
+   * and EXPAND grows them. */
   for (lt_i32 j = 0; j < c.voxels; j++) {
     if (c.count[j] < 0) continue;
     int lo[3], hi[3];
     lt_irg_box_of(&c, j, lo, hi);
-    for (int k = 0; k < 3; k++) lo[k] = c.origin[k] + lo[k] * c.step, hi[k] = c.origin[k] + hi[k] * c.step;
-    if (!later) grown += (lt_u32)lt_irg_expand(b, &c, &check, c.step, lo, hi);
     LT_GLOBAL lt_irg_cell *cell = &b->cells[c.cand[j]];
-    for (int k = 0; k < 3; k++) cell->lo[k] = lo[k], cell->hi[k] = hi[k];
+    for (int k = 0; k < 3; k++) cell->lo[k] = c.origin[k] + lo[k] * c.step, cell->hi[k] = c.origin[k] + hi[k] * c.step;
   }
-  lt_irg_count(b, LT_IRG_STAT_EXPANSIONS, grown);
   lt_irg_count(b, LT_IRG_STAT_CELL_REFS, (lt_u32)(c.voxels == 1 ? c.m : refs));
   lt_irg_count(b, LT_IRG_STAT_SORT_OPS, placed);
-  lt_irg_count(b, LT_IRG_STAT_TOP_BUILT, 1);
 
-  /* Publish: cells and sub-map first, then the entry. The last top cell of a full build with
-   * global merging starts the GLOBAL task. */
-  lt_fence();
-  lt_atomic_store_i32(&b->top_map[c.t], LT_IRG_ENTRY(c.level, map));
-  if (lt_atomic_add_i32(&b->control[LT_IRG_CONTROL_TOPS_LEFT], -1) == 1 && later) lt_irg_spawn_global(b);
-  lt_pool_retire(&b->pool, slot);
+  /* On to the voxel map over the cells just made (lt_irg_hand_on fences the writes above). */
+  lt_i32 entry = LT_IRG_ENTRY(c.level, map);
+  lt_irg_hand_on(b, slot, LT_IRG_KIND_VOXEL_MAP, c.t, entry, 0, live, first_cell, first_cell + live);
 }
 
-/* The CELL task has one chunk, whose work its phase end does on work-item 0. */
+/* The CELL task has one chunk, whose work its phase end does on work-item 0: the merge
+ * passes need the whole top cell's scratch at once (see docs/notes/irgrid.md). */
 LT_DEVICE void lt_irg_cell_chunk(const lt_irg_build *b, lt_i32 slot, lt_i32 chunk, int lid, int lsize) {
   (void)b, (void)slot, (void)chunk, (void)lid, (void)lsize;
 }
 LT_DEVICE void lt_irg_cell_end(const lt_irg_build *b, lt_i32 slot) { lt_irg_build_top(b, slot); }
+
+/* ---- The VOXEL_MAP task: one top cell's sub-map, from its cells' boxes ---- */
+
+/* Points the sub-voxels of each cell of the chunk at the cell (cells tile their top cell). */
+LT_DEVICE void lt_irg_voxel_map_chunk(const lt_irg_build *b, lt_i32 slot, lt_i32 chunk, int lid, int lsize) {
+  LT_GLOBAL const lt_task *task = &b->pool.tasks[slot];
+  lt_i32 t = task->work[LT_IRG_W_TOP], entry = task->work[LT_IRG_W_ENTRY], first, end;
+  lt_irg_chunk_cells(task, chunk, &first, &end);
+  int level = LT_IRG_ENTRY_LEVEL(entry), down = b->shift - level, side = 1 << level;
+  int tx = b->fine_dims.x >> b->shift, ty = b->fine_dims.y >> b->shift;
+  int origin[3] = {(t % tx) << b->shift, ((t / tx) % ty) << b->shift, (t / (tx * ty)) << b->shift};
+  LT_GLOBAL lt_i32 *map = b->sub_maps + LT_IRG_ENTRY_BASE(entry);
+  for (lt_i32 j = first + lid; j < end; j += lsize) {
+    LT_GLOBAL const lt_irg_cell *cell = &b->cells[j];
+    int lo[3], hi[3];
+    for (int k = 0; k < 3; k++) lo[k] = (cell->lo[k] - origin[k]) >> down, hi[k] = (cell->hi[k] - origin[k]) >> down;
+    for (int z = lo[2]; z < hi[2]; z++)
+      for (int y = lo[1]; y < hi[1]; y++)
+        for (int x = lo[0]; x < hi[0]; x++) map[x + side * (y + side * z)] = j;
+  }
+}
+
+/* With the sub-map written: on to the expansion passes, or publish the top cell when there
+ * are none here (none asked for, or the MERGE passes across the grid come first). */
+LT_DEVICE void lt_irg_voxel_map_end(const lt_irg_build *b, lt_i32 slot) {
+  LT_GLOBAL const lt_task *task = &b->pool.tasks[slot];
+  lt_i32 t = task->work[LT_IRG_W_TOP], entry = task->work[LT_IRG_W_ENTRY];
+  if (b->expansion_passes > 0 && !lt_irg_merges_later(b))
+    lt_irg_hand_on(b, slot, LT_IRG_KIND_EXPAND, t, entry, 0, task->work[LT_IRG_W_LIVE], task->begin, task->end);
+  else
+    lt_irg_publish_top(b, slot, t, entry);
+}
 
 /* The build's start, once, by one work-item, before the first launch: the COUNT task,
  * unlocked in every mode (rays wait for the top level without asking for it). */

@@ -319,6 +319,16 @@ LT_DEVICE void lt_pool_next_phase(const lt_pool *pool, lt_i32 slot, lt_i32 phase
   lt_atomic_store_i32(&pool->headers[slot], chunks);
 }
 
+/* Turns a task whose phase is done (locked, all chunks done) into the task of the next step of
+ * its structure, of another kind: the same slot, node and flags, so whatever points at the slot
+ * (a top map, a ray's request, the prioritisation cache) follows it; a new kind and range, from
+ * phase 0 with `chunks` chunks. The caller writes the new kind's work words first. */
+LT_DEVICE void lt_pool_next_kind(const lt_pool *pool, lt_i32 slot, lt_i32 kind, lt_i32 begin, lt_i32 end,
+                                 lt_i32 chunks) {
+  LT_GLOBAL lt_task *task = &pool->tasks[slot];
+  task->kind = kind, task->begin = begin, task->end = end;
+  lt_pool_next_phase(pool, slot, 0, chunks);
+}
 /* Retires a finished task: its slot becomes empty and goes to the empty-task cache. */
 LT_DEVICE void lt_pool_retire(const lt_pool *pool, lt_i32 slot) {
   LT_GLOBAL lt_task *task = &pool->tasks[slot];

@@ -27,6 +27,7 @@ void lt__native_kd_trace_kernel(void *arg);
 void lt__native_grid_trace_kernel(void *arg);
 /* kernels/native_irgrid_ondemand.c: arg is an lt__native_launch over an lt_irg_args. */
 void lt__native_irgrid_ondemand_kernel(void *arg);
+void lt__native_irgrid_merge_kernel(void *arg);
 /* kernels/native_irgrid_trace.c: arg is an lt__native_trace_launch over an lt_irg_trace_view. */
 void lt__native_irgrid_trace_kernel(void *arg);
 /* kernels/native_qbvh_trace.c: arg is an lt__native_trace_launch over an lt_qbvh_trace_view. */

@@ -143,8 +143,8 @@ void lt__irgrid_release(lt__irgrid *g) {
 LT__KERNEL_ARGS(irg_args, LT_IRG_ARGS, lt_irg_args)
 LT__KERNEL_ARGS(irg_trace_args, LT_IRG_TRACE_ARGS, lt_irg_trace_view)
 
-static lt_status launch(lt__irgrid *g, lt__buffer *rays, lt__buffer *hits, int count, int flags, int speculate,
-                        int setup) {
+static lt_status launch_kernel(lt__irgrid *g, const lt__persistent_kernel *kernel, lt__buffer *rays, lt__buffer *hits,
+                               int count, int flags, int speculate, int setup) {
   irg_args args;
   LT__POOL_HOST_ARGS(&args, &g->pool);
   LT__HEAP_HOST_ARGS(&args, cell_heap, &g->cell_heap);
@@ -160,10 +160,32 @@ static lt_status launch(lt__irgrid *g, lt__buffer *rays, lt__buffer *hits, int c
   args.traversal_cost = g->config.traversal_cost, args.intersection_cost = g->config.intersection_cost;
   args.rays = rays, args.hits = hits, args.ray_count = count, args.flags = flags;
   args.max_idle_polls = g->pool.config.max_idle_polls, args.speculate = speculate;
+  lt_irg_args view;
+  return lt__persistent_launch(g->ctx, kernel, &args, &view, setup, &g->pool.control, g->pool.config.max_stall_seconds);
+}
+
+/* The kernel that builds top cells and traces (kernels/irgrid_ondemand.h). */
+static lt_status launch(lt__irgrid *g, lt__buffer *rays, lt__buffer *hits, int count, int flags, int speculate,
+                        int setup) {
   static const lt__persistent_kernel kernel = {"lt_irg_ondemand", lt__native_irgrid_ondemand_kernel, irg_args_set_any,
                                                irg_args_view_any};
-  lt_irg_args view;
-  return lt__persistent_launch(g->ctx, &kernel, &args, &view, setup, &g->pool.control, g->pool.config.max_stall_seconds);
+  return launch_kernel(g, &kernel, rays, hits, count, flags, speculate, setup);
+}
+
+lt_status lt__irgrid_merge(lt__irgrid *g, lt_stats *stats) {
+  static const lt__persistent_kernel kernel = {"lt_irg_merge", lt__native_irgrid_merge_kernel, irg_args_set_any,
+                                               irg_args_view_any};
+  lt__buffer none;
+  memset(&none, 0, sizeof none);
+  lt_status status = lt__buffer_create(g->ctx, &none, 16, NULL, 0);
+  if (!status) status = launch_kernel(g, &kernel, &none, &none, 0, 0, 0, 1);
+  if (!status) status = lt__pool_end_launch(&g->pool, NULL);
+  if (!status) status = lt__pool_begin_launch(&g->pool);
+  if (!status) status = launch_kernel(g, &kernel, &none, &none, 0, 0, 0, 0);
+  if (!status) status = lt__pool_end_launch(&g->pool, stats);
+  if (!status) status = read_counters(g, stats);
+  lt__buffer_release(&none);
+  return status;
 }
 
 /* Adds the launch's counters, summed over the work-groups, to stats and the grid's totals, and

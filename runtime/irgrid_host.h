@@ -50,6 +50,9 @@ void lt__irgrid_release(lt__irgrid *g);
  * writes hits; speculate: work-groups out of rays build top cells nobody asked for. */
 lt_status lt__irgrid_launch(lt__irgrid *g, const lt_ray *rays, int count, int flags, lt_hit *hits, int speculate,
                             lt_stats *stats);
+/* After a full build's launch, with global merging: the merge passes across the grid and the
+ * expansion passes after them, in a launch of their own (kernels/irgrid_ondemand.h). */
+lt_status lt__irgrid_merge(lt__irgrid *g, lt_stats *stats);
 /* Traces a batch through the plain trace kernel; every top cell must be built. */
 lt_status lt__irgrid_trace_finished(lt__irgrid *g, const lt_ray *rays, int count, int flags, lt_hit *hits,
                                     lt_stats *stats);

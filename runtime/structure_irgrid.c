@@ -37,6 +37,7 @@ static lt_status start(lt_structure *s, lt_stats *stats) {
   lt_status status = lt__irgrid_create(s->ctx, s->scene, &g->config, pool_mode, &g->room, &g->grid);
   if (!status) g->live = 1;
   if (!status && mode_of(s) == LT_BUILD_FULL) status = lt__irgrid_launch(&g->grid, NULL, 0, 0, NULL, 0, stats);
+  if (!status && mode_of(s) == LT_BUILD_FULL && g->config.global_merge) status = lt__irgrid_merge(&g->grid, stats);
   if (!status && mode_of(s) == LT_BUILD_FULL) status = lt__irgrid_compact(&g->grid);
   lt__stats_add(stats, LT_STAT_BUILD_MS, lt_now_ms() - begin - (s->ctx->compile_ms - compile));
   return status;
