@@ -93,6 +93,8 @@ LT_DEVICE int LT_BVH_TRAVERSE_NAME(const lt_bvh_view *v, lt_bvh_ray *q, int flag
     lt_i32 link[2], count[2], next[2];
     float t_entry[2];
     int go[2], kind[2];
+    /* Unrolled on growing trees too: as a loop over arrays in memory the on-demand traversal
+     * ran 1.25x the finished one's instructions a ray (docs/notes/trace_speed.md). */
     LT_UNROLL_2
     for (int side = 0; side < 2; side++) {
 #if LT_BVH_TRAVERSE_ONDEMAND
