@@ -2,8 +2,10 @@
  * the pool, then the same rays traced once through the persistent (on-demand) kernel and once
  * through the plain trace kernel of finished trees, run by run alternated, on primary rays and
  * on ambient-occlusion rays from their hits. Both are timed around the whole call (uploads,
- * launch, read-back), as a caller sees them; hits must be identical. Prints one table row per
- * backend and ray set: medians of the runs and the median of the paired ratios.
+ * launch, read-back), as a caller sees them, in wall-clock time and in CPU time summed over the
+ * process's threads (which a machine shared with other work disturbs less); hits must be
+ * identical. Prints one table row per backend and ray set: medians of the runs and the median
+ * of the paired ratios.
  *
  *   bench_ondemand_tax SCENE[@camera] [--structure bvh|kdtree] [--size N] [--runs R]
  *                      [--device native|opencl|both]       (defaults: bvh, 1024, 5, both)
@@ -11,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 
 #include "benchmarks/median.h"
 #include "lazytrace.h"
@@ -20,6 +23,13 @@
 #define MAX_RUNS 64
 enum { PRIMARY, AO, SETS };
 static const char *const set_names[SETS] = {"primary", "AO (1 ray per hit)"};
+
+/* CPU time of every thread of the process so far, in ms. */
+static double cpu_ms(void) {
+  struct rusage u;
+  getrusage(RUSAGE_SELF, &u);
+  return (u.ru_utime.tv_sec + u.ru_stime.tv_sec) * 1e3 + (u.ru_utime.tv_usec + u.ru_stime.tv_usec) * 1e-3;
+}
 
 /* One trace of the finished tree through the persistent kernel (no building: every link is
  * built, and speculation is off). */
@@ -59,8 +69,9 @@ int main(int argc, char **argv) {
   printf("Scene `%s`: %zu triangles, %s built in full through the pool; %dx%d primary rays; %d runs, "
          "persistent and plain alternated run by run; ms around the whole trace call.\n\n",
          spec, lt_scene_triangle_count(scene), kd ? "kd-tree" : "BVH", size, size, runs);
-  printf("| backend | rays | count | persistent ms | plain ms | persistent / plain (median of paired ratios) |\n");
-  printf("|---|---|---:|---:|---:|---:|\n");
+  printf("| backend | rays | count | persistent ms | plain ms | persistent / plain (median of paired ratios) "
+         "| persistent CPU ms | plain CPU ms | CPU persistent / plain |\n");
+  printf("|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
   int mismatches = 0;
   for (int b = 0; b < 2; b++) {
     if (strcmp(device, "both") != 0 && strcmp(device, b ? "opencl" : "native") != 0) continue;
@@ -80,23 +91,24 @@ int main(int argc, char **argv) {
     for (int set = 0; set < SETS; set++) {
       /* Runs: persistent then plain, or plain then persistent, alternating; the first pair
        * warms up (kernel compiles, page faults) and is not counted. */
-      double ms[2][MAX_RUNS], ratio[MAX_RUNS];
+      double ms[2][MAX_RUNS], ratio[MAX_RUNS], cpu[2][MAX_RUNS], cpu_ratio[MAX_RUNS];
       for (int run = -1; run < runs; run++) {
         for (int k = 0; k < 2; k++) {
           int persistent = (k + run) % 2 == 0;
-          double begin = lt_now_ms();
+          double begin = lt_now_ms(), cpu_begin = cpu_ms();
           lt_status status = persistent ? trace_persistent(s, kd, rays[set], counts[set], hits[persistent])
                                         : lt_structure_trace(s, rays[set], counts[set], LT_QUERY_CLOSEST,
                                                              hits[persistent], NULL);
-          double t = lt_now_ms() - begin;
+          double t = lt_now_ms() - begin, c = cpu_ms() - cpu_begin;
           if (status) return fprintf(stderr, "%s\n", lt_last_error()), 1;
-          if (run >= 0) ms[persistent ? 0 : 1][run] = t;
+          if (run >= 0) ms[persistent ? 0 : 1][run] = t, cpu[persistent ? 0 : 1][run] = c;
         }
         if (run < 0) mismatches += memcmp(hits[0], hits[1], counts[set] * sizeof(lt_hit)) != 0;
-        else ratio[run] = ms[0][run] / ms[1][run];
+        else ratio[run] = ms[0][run] / ms[1][run], cpu_ratio[run] = cpu[0][run] / cpu[1][run];
       }
-      printf("| %s | %s | %zu | %.1f | %.1f | %.2f |\n", b ? "OpenCL" : "native", set_names[set], counts[set],
-             lt_bench_median(ms[0], runs), lt_bench_median(ms[1], runs), lt_bench_median(ratio, runs));
+      printf("| %s | %s | %zu | %.1f | %.1f | %.2f | %.1f | %.1f | %.2f |\n", b ? "OpenCL" : "native", set_names[set],
+             counts[set], lt_bench_median(ms[0], runs), lt_bench_median(ms[1], runs), lt_bench_median(ratio, runs),
+             lt_bench_median(cpu[0], runs), lt_bench_median(cpu[1], runs), lt_bench_median(cpu_ratio, runs));
     }
     lt_structure_destroy(s);
     lt_context_destroy(ctx);
