@@ -106,16 +106,19 @@ LT_DEVICE void lt_bvh_publish_link(LT_GLOBAL lt_bvh_node *nodes, lt_i32 address,
   lt_atomic_store_i32(&node->link[side], link);
 }
 
-/* Reads the link at `address` of a tree that may still grow: the link first, with acquire
+/* Reads child `side` of node n of a tree that may still grow: the link first, with acquire
  * order, then the count, which the publisher stored before the link; returns the child's kind.
  * (A load and a full fence here cost a locked instruction per link on x86: about 40% of the
  * on-demand kernel's samples.) */
-LT_DEVICE int lt_bvh_read_link(LT_GLOBAL const lt_bvh_node *nodes, lt_i32 address, lt_i32 *link, lt_i32 *count) {
-  LT_GLOBAL const lt_bvh_node *n = &nodes[address >> 1];
-  int side = address & 1;
+LT_DEVICE int lt_bvh_read_child_acquire(LT_GLOBAL const lt_bvh_node *n, int side, lt_i32 *link, lt_i32 *count) {
   *link = lt_atomic_load_acquire_i32(&n->link[side]);
   *count = lt_atomic_load_i32(&n->link[2 + side]);
   return lt_bvh_child_kind(*link, *count);
+}
+
+/* The same, addressed as node * 2 + side (a link a suspended ray re-reads). */
+LT_DEVICE int lt_bvh_read_link(LT_GLOBAL const lt_bvh_node *nodes, lt_i32 address, lt_i32 *link, lt_i32 *count) {
+  return lt_bvh_read_child_acquire(&nodes[address >> 1], address & 1, link, count);
 }
 
 /* Reads child `side` of a node of a finished tree (plain loads); returns its kind. */

@@ -81,6 +81,29 @@ lt_status lt__buffer_wrap(lt_context *ctx, lt__buffer *buffer, const void *host,
   return lt__opencl_check(err, "clCreateBuffer");
 }
 
+lt_status lt__batch_buffers_begin(lt_context *ctx, lt__buffer *ray_buf, lt__buffer *hit_buf, const lt_ray *rays,
+                                  int count, lt_hit *hits) {
+  size_t ray_bytes = (size_t)count * sizeof(lt_ray), hit_bytes = (size_t)count * sizeof(lt_hit);
+  memset(hit_buf, 0, sizeof *hit_buf);
+  /* OpenCL cannot copy from no memory: an empty batch gets a small buffer instead. */
+  lt_status status = count > 0 || ctx->kind == LT_DEVICE_NATIVE ? lt__buffer_wrap(ctx, ray_buf, rays, ray_bytes)
+                                                               : lt__buffer_create(ctx, ray_buf, 16, NULL, 0);
+  if (status) return status;
+  if (ctx->kind == LT_DEVICE_NATIVE) status = lt__buffer_wrap(ctx, hit_buf, hits, hit_bytes);
+  else status = lt__buffer_create(ctx, hit_buf, hit_bytes, NULL, LT_BUFFER_UNINIT);
+  if (status) lt__buffer_release(ray_buf);
+  return status;
+}
+
+lt_status lt__batch_buffers_end(lt_context *ctx, lt__buffer *ray_buf, lt__buffer *hit_buf, lt_hit *hits, int count,
+                                lt_status status) {
+  if (!status && count > 0 && ctx->kind == LT_DEVICE_OPENCL)
+    status = lt__buffer_read(ctx, hit_buf, 0, (size_t)count * sizeof(lt_hit), hits);
+  lt__buffer_release(ray_buf);
+  lt__buffer_release(hit_buf);
+  return status;
+}
+
 void *lt__buffer_begin_write(lt_context *ctx, lt__buffer *buffer) {
   return ctx->kind == LT_DEVICE_NATIVE ? buffer->host : malloc(buffer->bytes);
 }

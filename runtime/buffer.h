@@ -25,6 +25,14 @@ void lt__buffer_release(lt__buffer *buffer);
 /* A read-only buffer over existing host memory: the native backend uses it in place (no
  * copy); OpenCL copies it once. The memory must outlive the buffer. */
 lt_status lt__buffer_wrap(lt_context *ctx, lt__buffer *buffer, const void *host, size_t bytes);
+/* A batch's rays and the room for its hits: on native the caller's arrays themselves (kernels
+ * read the rays and write the hits in place, no copy), on OpenCL a copy of the rays and a hit
+ * buffer. lt__batch_buffers_end reads the hits back (OpenCL, when status is LT_OK), releases
+ * both and returns status. A batch of no rays may pass NULL arrays. */
+lt_status lt__batch_buffers_begin(lt_context *ctx, lt__buffer *ray_buf, lt__buffer *hit_buf, const lt_ray *rays,
+                                  int count, lt_hit *hits);
+lt_status lt__batch_buffers_end(lt_context *ctx, lt__buffer *ray_buf, lt__buffer *hit_buf, lt_hit *hits, int count,
+                                lt_status status);
 /* Where to write a buffer's initial contents: the buffer itself on native, a staging copy on
  * OpenCL that lt__buffer_end_write uploads and frees. NULL when out of memory. */
 void *lt__buffer_begin_write(lt_context *ctx, lt__buffer *buffer);

@@ -140,16 +140,13 @@ lt_status lt__ondemand_launch(lt__ondemand *od, const lt_ray *rays, int count, i
                               int speculate, lt_stats *stats) {
   lt_context *ctx = od->ctx;
   lt__buffer ray_buf, hit_buf;
-  lt_status status = lt__buffer_create(ctx, &ray_buf, (size_t)count * sizeof(lt_ray), rays, 0);
+  lt_status status = lt__batch_buffers_begin(ctx, &ray_buf, &hit_buf, rays, count, hits);
   if (status) return status;
-  status = lt__buffer_create(ctx, &hit_buf, (size_t)count * sizeof(lt_hit), NULL, 0);
-  if (!status) status = lt__pool_begin_launch(&od->pool);
+  status = lt__pool_begin_launch(&od->pool);
   if (!status) status = launch(od, &ray_buf, &hit_buf, count, flags, speculate, 0);
   if (!status) status = lt__pool_end_launch(&od->pool, stats);
-  if (!status && count) status = lt__buffer_read(ctx, &hit_buf, 0, (size_t)count * sizeof(lt_hit), hits);
+  status = lt__batch_buffers_end(ctx, &ray_buf, &hit_buf, hits, count, status);
   if (!status) status = read_counters(od, stats);
-  lt__buffer_release(&ray_buf);
-  lt__buffer_release(&hit_buf);
   return status;
 }
 

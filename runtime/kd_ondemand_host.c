@@ -127,16 +127,13 @@ lt_status lt__kd_launch(lt__kd *kd, const lt_ray *rays, int count, int flags, lt
                         lt_stats *stats) {
   lt_context *ctx = kd->ctx;
   lt__buffer ray_buf, hit_buf;
-  lt_status status = lt__buffer_create(ctx, &ray_buf, (size_t)count * sizeof(lt_ray), rays, 0);
+  lt_status status = lt__batch_buffers_begin(ctx, &ray_buf, &hit_buf, rays, count, hits);
   if (status) return status;
-  status = lt__buffer_create(ctx, &hit_buf, (size_t)count * sizeof(lt_hit), NULL, 0);
-  if (!status) status = lt__pool_begin_launch(&kd->pool);
+  status = lt__pool_begin_launch(&kd->pool);
   if (!status) status = launch(kd, &ray_buf, &hit_buf, count, flags, speculate, 0);
   if (!status) status = lt__pool_end_launch(&kd->pool, stats);
-  if (!status && count) status = lt__buffer_read(ctx, &hit_buf, 0, (size_t)count * sizeof(lt_hit), hits);
+  status = lt__batch_buffers_end(ctx, &ray_buf, &hit_buf, hits, count, status);
   if (!status) status = read_counters(kd, stats);
-  lt__buffer_release(&ray_buf);
-  lt__buffer_release(&hit_buf);
   return status;
 }
 

@@ -17,20 +17,11 @@ typedef struct trace_batch {
 static lt_status trace_batch_begin(lt_context *ctx, trace_batch *batch, const lt_ray *rays, int count, lt_hit *hits) {
   memset(batch, 0, sizeof *batch);
   batch->count = count;
-  lt_status status = lt__buffer_wrap(ctx, &batch->rays, rays, (size_t)count * sizeof(lt_ray));
-  if (status) return status;
-
-  /* Native kernels write the caller's hits in place; OpenCL writes a buffer read back later. */
-  if (ctx->kind == LT_DEVICE_NATIVE) return lt__buffer_wrap(ctx, &batch->hits, hits, (size_t)count * sizeof(lt_hit));
-  return lt__buffer_create(ctx, &batch->hits, (size_t)count * sizeof(lt_hit), NULL, LT_BUFFER_UNINIT);
+  return lt__batch_buffers_begin(ctx, &batch->rays, &batch->hits, rays, count, hits);
 }
 
 static lt_status trace_batch_end(lt_context *ctx, trace_batch *batch, lt_hit *hits, lt_status status) {
-  if (!status && ctx->kind == LT_DEVICE_OPENCL)
-    status = lt__buffer_read(ctx, &batch->hits, 0, (size_t)batch->count * sizeof(lt_hit), hits);
-  lt__buffer_release(&batch->rays);
-  lt__buffer_release(&batch->hits);
-  return status;
+  return lt__batch_buffers_end(ctx, &batch->rays, &batch->hits, hits, batch->count, status);
 }
 
 static lt_status overflow(void) {

@@ -133,6 +133,41 @@ static void ondemand_second_batch_continues_on_the_partial_tree(void **state) {
   lt_scene_destroy(scene);
 }
 
+/* A tree the pool finished, traced again through the persistent kernel: the same closest hits
+ * as the reference, every hit written (the native launch writes the caller's array in place,
+ * so it starts out as garbage here), and no node requested. */
+static void ondemand_finished_tree_through_the_persistent_kernel(void **state) {
+  (void)state;
+  int have_opencl = lt_test_opencl_available();
+  lt_scene *scene;
+  assert_int_equal(lt_scene_load("house-row:2", &scene), LT_OK);
+  lt_ray *rays = malloc(RAY_COUNT * sizeof *rays);
+  lt_hit *hits = malloc(RAY_COUNT * sizeof *hits), *ref = malloc(RAY_COUNT * sizeof *ref);
+  make_rays(scene, 11, rays);
+  assert_int_equal(lt_reference_trace(scene, rays, RAY_COUNT, LT_QUERY_CLOSEST, ref), LT_OK);
+  for (int b = 0; b < 2; b++) {
+    if (b == 1 && !have_opencl) continue;
+    lt_context *ctx;
+    lt_context_config config = {b == 0 ? LT_DEVICE_NATIVE : LT_DEVICE_OPENCL, 0, 0, 0, 1};
+    assert_int_equal(lt_context_create(&config, &ctx), LT_OK);
+    lt_structure_config sc = mode_config(LT_BUILD_FULL);
+    lt_structure *bvh;
+    assert_int_equal(lt_structure_create(ctx, scene, &sc, NULL, &bvh), LT_OK);
+    lt_stats *stats;
+    lt_stats_create(&stats);
+    memset(hits, 0xab, RAY_COUNT * sizeof *hits);
+    assert_int_equal(lt__ondemand_launch(lt__structure_ondemand(bvh), rays, RAY_COUNT, LT_QUERY_CLOSEST, hits, 0, stats),
+                     LT_OK);
+    assert_int_equal(lt_test_count_mismatches("persistent kernel, finished tree", hits, ref, RAY_COUNT), 0);
+    assert_true(lt_stats_get(stats, "pool.stalls") == 0);
+    lt_stats_destroy(stats);
+    lt_structure_destroy(bvh);
+    lt_context_destroy(ctx);
+  }
+  free(rays), free(hits), free(ref);
+  lt_scene_destroy(scene);
+}
+
 /* Walks the on-demand tree beside the host's full tree: every node built on demand has the
  * full tree's child boxes, and every leaf built holds the same triangles in the same order. */
 typedef struct tree_pair {
@@ -255,6 +290,7 @@ int main(void) {
       cmocka_unit_test(ondemand_full_pool_is_retried_larger),
       cmocka_unit_test(ondemand_builds_only_what_rays_reach),
       cmocka_unit_test(ondemand_second_batch_continues_on_the_partial_tree),
+      cmocka_unit_test(ondemand_finished_tree_through_the_persistent_kernel),
       cmocka_unit_test(ondemand_matches_reference_in_every_mode),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

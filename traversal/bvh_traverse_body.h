@@ -93,12 +93,12 @@ LT_DEVICE int LT_BVH_TRAVERSE_NAME(const lt_bvh_view *v, lt_bvh_ray *q, int flag
     lt_i32 link[2], count[2], next[2];
     float t_entry[2];
     int go[2], kind[2];
-#if !LT_BVH_TRAVERSE_ONDEMAND
+    /* Unrolled on growing trees too: as a loop over arrays in memory the on-demand traversal
+     * ran 1.25x the finished one's instructions a ray (docs/notes/trace_speed.md). */
     LT_UNROLL_2
-#endif
     for (int side = 0; side < 2; side++) {
 #if LT_BVH_TRAVERSE_ONDEMAND
-      kind[side] = lt_bvh_read_link(nodes, cur * 2 + side, &link[side], &count[side]);
+      kind[side] = lt_bvh_read_child_acquire(n, side, &link[side], &count[side]);
 #else
       kind[side] = lt_bvh_child(n, side, &link[side], &count[side]);
 #endif
