@@ -42,12 +42,6 @@ typedef struct figures {
   int ok;
 } figures;
 
-static lt_context *native_context(void) {
-  static lt_context *ctx;
-  lt_context_config config = {LT_DEVICE_NATIVE, 0, 0, 0, 1};
-  if (!ctx && lt_context_create(&config, &ctx) != LT_OK) return NULL;
-  return ctx;
-}
 
 /* One frame of one method: build, then the batches (rays[0] closest hit, rays[1] if any, of
  * the workload's query); the last batch's hits in hits. Returns nonzero on failure. */
@@ -56,7 +50,7 @@ static int run_frame(const lt_scene *scene, int method, const lt_ray *const rays
   int batches = count[1] ? 2 : 1;
   if (method == EMBREE || method == EMBREE_LOW) {
 #ifdef LT_HAVE_EMBREE
-    lt_embree *e = lt_embree_build_quality(scene, lt_context_work_groups(native_context()),
+    lt_embree *e = lt_embree_build_quality(scene, lt_context_work_groups(lt_bench_native_context()),
                                            method == EMBREE_LOW ? LT_EMBREE_LOW : LT_EMBREE_MEDIUM, build_ms);
     if (!e) return 1;
     *ms = *build_ms;
@@ -72,7 +66,7 @@ static int run_frame(const lt_scene *scene, int method, const lt_ray *const rays
   lt_stats *stats;
   lt_structure *s = NULL;
   if (lt_stats_create(&stats)) return 1;
-  lt_status status = lt_structure_create(native_context(), scene, &config, stats, &s);
+  lt_status status = lt_structure_create(lt_bench_native_context(), scene, &config, stats, &s);
   for (int b = 0; !status && b < batches; b++)
     status = lt_structure_trace(s, rays[b], count[b], b == 1 && any ? LT_QUERY_ANY : LT_QUERY_CLOSEST, hits, stats);
   if (status) fprintf(stderr, "%s: %s\n", lt_bench_method_names[method], lt_last_error());
@@ -159,7 +153,7 @@ int main(int argc, char **argv) {
   if (first >= argc || runs < 1 || runs > MAX_RUNS || size < 1 || frames < 1 || samples < 1)
     return fprintf(stderr, "usage: bench_frames [--runs 1-%d] [--size N] [--frames F] [--samples S] [--csv FILE] "
                            "SCENE...\n", MAX_RUNS), 2;
-  if (!native_context()) return fprintf(stderr, "%s\n", lt_last_error()), 1;
+  if (!lt_bench_native_context()) return fprintf(stderr, "%s\n", lt_last_error()), 1;
   if (csv) fprintf(csv, "scene,workload,method,ms_per_frame,build_ms_per_frame,nodes_per_frame\n");
 
   printf("| scene, rays per frame | full BVH | BVH_R | BVH_A | Kd | Kd_R | Kd_A | LBVH | Embree low | Embree default |"

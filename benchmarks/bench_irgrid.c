@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "benchmarks/median.h"
+#include "benchmarks/methods.h"
 #include "lazytrace.h"
 #include "runtime/irgrid_host.h" /* lt__irgrid_top_dims: Table 5 prints the top grid's resolution */
 #ifdef LT_HAVE_EMBREE
@@ -88,11 +89,10 @@ static void die(const char *format, ...) {
   exit(1);
 }
 
-/* The native backend with as many work-groups as threads run concurrently, quiet. */
+/* The benchmarks' native context (benchmarks/methods.h), or the end of the run. */
 static lt_context *native_context(void) {
-  static lt_context *ctx;
-  lt_context_config config = {LT_DEVICE_NATIVE, 0, 0, 0, 1};
-  if (!ctx && lt_context_create(&config, &ctx) != LT_OK) die("no native context: %s", lt_last_error());
+  lt_context *ctx = lt_bench_native_context();
+  if (!ctx) die("no native context: %s", lt_last_error());
   return ctx;
 }
 

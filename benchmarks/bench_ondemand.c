@@ -50,12 +50,6 @@ typedef struct batch {
   int any;
 } batch;
 
-static lt_context *native_context(void) {
-  static lt_context *ctx;
-  lt_context_config config = {LT_DEVICE_NATIVE, 0, 0, 0, 1};
-  if (!ctx && lt_context_create(&config, &ctx) != LT_OK) return NULL;
-  return ctx;
-}
 
 /* One run of one method over the batches; hits of the last batch land in `hits`. */
 static int run_method(const lt_scene *scene, int method, const batch *batches, int nbatches, int run, figures *f,
@@ -63,7 +57,7 @@ static int run_method(const lt_scene *scene, int method, const batch *batches, i
   if (method == EMBREE || method == EMBREE_LOW) {
 #ifdef LT_HAVE_EMBREE
     double build;
-    lt_embree *e = lt_embree_build_quality(scene, lt_context_work_groups(native_context()),
+    lt_embree *e = lt_embree_build_quality(scene, lt_context_work_groups(lt_bench_native_context()),
                                            method == EMBREE_LOW ? LT_EMBREE_LOW : LT_EMBREE_MEDIUM, &build);
     if (!e) return 1;
     double trace = 0;
@@ -79,7 +73,7 @@ static int run_method(const lt_scene *scene, int method, const batch *batches, i
   lt_stats *stats;
   lt_structure *s = NULL;
   lt_stats_create(&stats);
-  lt_status status = lt_structure_create(native_context(), scene, &config, stats, &s);
+  lt_status status = lt_structure_create(lt_bench_native_context(), scene, &config, stats, &s);
   for (int b = 0; !status && b < nbatches; b++)
     status = lt_structure_trace(s, batches[b].rays, batches[b].count, batches[b].any ? LT_QUERY_ANY : LT_QUERY_CLOSEST,
                                 hits, stats);
@@ -202,7 +196,7 @@ static int table(int argc, char **argv, int runs, int size, int ao, FILE *csv) {
       float lo[3], hi[3];
       lt_scene_bounds(scene, lo, hi);
       float diag = sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
-      lt_structure_create(native_context(), scene, &fc, NULL, &full);
+      lt_structure_create(lt_bench_native_context(), scene, &fc, NULL, &full);
       lt_structure_trace(full, primary, n, LT_QUERY_CLOSEST, hits, NULL);
       lt_structure_destroy(full);
       batches[1].count = lt_ao_rays(scene, primary, hits, n, ao, 0.05f * diag, 1, ao_rays);
@@ -373,7 +367,7 @@ static int steps(int argc, char **argv, int size) {
         lt_stats *stats;
         lt_structure *s = NULL;
         lt_stats_create(&stats);
-        lt_status status = lt_structure_create(native_context(), scene, &config, NULL, &s);
+        lt_status status = lt_structure_create(lt_bench_native_context(), scene, &config, NULL, &s);
         if (!status) status = lt_structure_trace(s, rays, n, LT_QUERY_CLOSEST, hits, stats);
         if (status) return fprintf(stderr, "%s\n", lt_last_error()), 1;
         printf(" %.1f | %.1f |", lt_stats_get(stats, "traversal_steps") / n, lt_stats_get(stats, "intersections") / n);
@@ -404,7 +398,7 @@ int main(int argc, char **argv) {
     else return fprintf(stderr, "bench_ondemand: unknown option %s\n", argv[i]), 2;
   }
   if (runs < 1 || runs > MAX_RUNS || size < 1 || ao < 1) return fprintf(stderr, "bench_ondemand: bad option value\n"), 2;
-  if (!native_context()) return fprintf(stderr, "%s\n", lt_last_error()), 1;
+  if (!lt_bench_native_context()) return fprintf(stderr, "%s\n", lt_last_error()), 1;
   FILE *csv = csv_path ? fopen(csv_path, "w") : NULL;
   int rc;
   if (strcmp(argv[1], "table") == 0) rc = table(nscenes, scenes, runs, size, ao, csv);

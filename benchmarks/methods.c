@@ -4,6 +4,13 @@
 const char *const lt_bench_method_names[LT_BENCH_METHODS] = {
     "full", "requested", "speculative", "lbvh", "kd-full", "kd-requested", "kd-speculative", "embree", "embree-low"};
 
+lt_context *lt_bench_native_context(void) {
+  static lt_context *ctx;
+  lt_context_config config = {LT_DEVICE_NATIVE, 0, 0, 0, 1};
+  if (!ctx && lt_context_create(&config, &ctx) != LT_OK) return NULL;
+  return ctx;
+}
+
 lt_structure_config lt_bench_method_config(int method) {
   int kd = method >= LT_BENCH_KD_FULL && method <= LT_BENCH_KD_SPECULATIVE;
   int mode = kd ? method - LT_BENCH_KD_FULL : method;

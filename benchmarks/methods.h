@@ -24,4 +24,8 @@ extern const char *const lt_bench_method_names[LT_BENCH_METHODS];
 /* The structure of a lazytrace method (not Embree), with the default parameters. */
 lt_structure_config lt_bench_method_config(int method);
 
+/* The native backend with as many work-groups as threads run concurrently, quiet; made once,
+ * NULL (with lt_last_error() saying why) if it cannot be. */
+lt_context *lt_bench_native_context(void);
+
 #endif

@@ -109,6 +109,12 @@ static void write_number(FILE *out, double v, int is_time) {
   else fprintf(out, "%.6g", v);
 }
 
+/* `, "name": value` inside a record. */
+static void write_field(FILE *out, const char *name, double v, int is_time) {
+  fprintf(out, ", \"%s\": ", name);
+  write_number(out, v, is_time);
+}
+
 void lt__stats_batch(lt_stats *stats, const char *effect, double rays, double ms, double nodes_built) {
   if (!stats) return;
   if (stats->batch_count == LT_STATS_MAX_BATCHES) {
@@ -140,16 +146,12 @@ static void write_frames(const lt_stats *stats, FILE *out) {
   if (stats->frame_count == 0) fputs("null", out);
   for (int i = 0; i < stats->frame_count; i++) {
     const lt__frame_record *f = &stats->frames[i];
-    fprintf(out, "%s\n    {\"frame\": %d, \"rays\": ", i ? "," : "[", i);
-    write_number(out, f->rays, 0);
-    fputs(", \"build_ms\": ", out);
-    write_number(out, f->build_ms, 1);
-    fputs(", \"trace_ms\": ", out);
-    write_number(out, f->trace_ms, 1);
-    fputs(", \"total_ms\": ", out);
-    write_number(out, f->total_ms, 1);
-    fputs(", \"nodes_built\": ", out);
-    write_number(out, f->nodes_built, 0);
+    fprintf(out, "%s\n    {\"frame\": %d", i ? "," : "[", i);
+    write_field(out, "rays", f->rays, 0);
+    write_field(out, "build_ms", f->build_ms, 1);
+    write_field(out, "trace_ms", f->trace_ms, 1);
+    write_field(out, "total_ms", f->total_ms, 1);
+    write_field(out, "nodes_built", f->nodes_built, 0);
     fputs("}", out);
   }
   if (stats->frame_count) fputs("\n  ]", out);
@@ -217,12 +219,9 @@ lt_status lt_stats_write_json(const lt_stats *stats, FILE *out) {
     const lt__batch_record *r = &stats->batches[b];
     fprintf(out, "%s\n    {\"effect\": ", b ? "," : "[");
     write_string(out, r->effect);
-    fputs(", \"rays\": ", out);
-    write_number(out, r->rays, 0);
-    fputs(", \"ms\": ", out);
-    write_number(out, r->ms, 1);
-    fputs(", \"nodes_built\": ", out);
-    write_number(out, r->nodes_built, 0);
+    write_field(out, "rays", r->rays, 0);
+    write_field(out, "ms", r->ms, 1);
+    write_field(out, "nodes_built", r->nodes_built, 0);
     fputs("}", out);
   }
   if (stats->batch_count) fputs("\n  ]", out);
