@@ -2,7 +2,7 @@
 #include "benchmarks/methods.h"
 
 const char *const lt_bench_method_names[LT_BENCH_METHODS] = {
-    "full", "requested", "speculative", "lbvh", "kd-full", "kd-requested", "kd-speculative", "embree", "embree-low"};
+    "full", "requested", "speculative", "lbvh", "kd-full", "kd-requested", "kd-speculative", "embree", "embree-low", "qbvh"};
 
 lt_context *lt_bench_native_context(void) {
   static lt_context *ctx;
@@ -17,7 +17,10 @@ lt_structure_config lt_bench_method_config(int method) {
   lt_build_mode build = mode == LT_BENCH_REQUESTED     ? LT_BUILD_REQUESTED
                         : mode == LT_BENCH_SPECULATIVE ? LT_BUILD_SPECULATIVE
                                                        : LT_BUILD_FULL;
-  lt_structure_kind kind = kd ? LT_STRUCTURE_KDTREE : method == LT_BENCH_LBVH ? LT_STRUCTURE_LBVH : LT_STRUCTURE_BVH;
+  lt_structure_kind kind = kd                        ? LT_STRUCTURE_KDTREE
+                           : method == LT_BENCH_LBVH ? LT_STRUCTURE_LBVH
+                           : method == LT_BENCH_QBVH ? LT_STRUCTURE_QBVH
+                                                     : LT_STRUCTURE_BVH;
   lt_structure_config config = lt_structure_config_default(kind);
   config.build = build;
   return config;

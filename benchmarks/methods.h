@@ -1,6 +1,7 @@
 /* The methods the benchmarks compare: the SAH BVH built in full, on request or speculatively,
  * the LBVH, the SAH kd-tree in the same three modes, and (where a benchmark has it) Embree with
- * its default build and with its low-quality (Morton) build. */
+ * its default build and with its low-quality (Morton) build; last, the QBVH (built in full on the
+ * host from the SAH BVH: the fastest layout to trace a finished tree). */
 #ifndef LT_BENCH_METHODS_H
 #define LT_BENCH_METHODS_H
 
@@ -16,6 +17,7 @@ enum {
   LT_BENCH_KD_SPECULATIVE,
   LT_BENCH_EMBREE,
   LT_BENCH_EMBREE_LOW,
+  LT_BENCH_QBVH,
   LT_BENCH_METHODS
 };
 

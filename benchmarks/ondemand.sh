@@ -28,7 +28,7 @@ header() {
 }
 
 [ "$only" = all ] || [ "$only" = table1 ] && {
-  echo "# Time to image: full, requested and speculative SAH BVH, LBVH and Embree (the paper's Table 1)"
+  echo "# Time to image: full, requested and speculative SAH BVH, LBVH, Embree and the QBVH (the paper's Table 1)"
   echo
   header "$@"
   echo
