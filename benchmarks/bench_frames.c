@@ -42,7 +42,6 @@ typedef struct figures {
   int ok;
 } figures;
 
-
 /* One frame of one method: build, then the batches (rays[0] closest hit, rays[1] if any, of
  * the workload's query); the last batch's hits in hits. Returns nonzero on failure. */
 static int run_frame(const lt_scene *scene, int method, const lt_ray *const rays[2], const size_t count[2], int any,
@@ -62,17 +61,12 @@ static int run_frame(const lt_scene *scene, int method, const lt_ray *const rays
     return 1;
 #endif
   }
-  lt_structure_config config = lt_bench_method_config(method);
   lt_stats *stats;
-  lt_structure *s = NULL;
   if (lt_stats_create(&stats)) return 1;
-  lt_status status = lt_structure_create(lt_bench_native_context(), scene, &config, stats, &s);
-  for (int b = 0; !status && b < batches; b++)
-    status = lt_structure_trace(s, rays[b], count[b], b == 1 && any ? LT_QUERY_ANY : LT_QUERY_CLOSEST, hits, stats);
-  if (status) fprintf(stderr, "%s: %s\n", lt_bench_method_names[method], lt_last_error());
+  const lt_bench_batch list[2] = {{rays[0], count[0], 0}, {rays[1], count[1], any}};
+  lt_status status = lt_bench_build_and_trace(scene, method, list, batches, hits, stats);
   *ms = lt_stats_get(stats, "total_ms"), *build_ms = lt_stats_get(stats, "build_ms");
   *nodes = lt_stats_get(stats, "nodes_built");
-  lt_structure_destroy(s);
   lt_stats_destroy(stats);
   return status != LT_OK;
 }

@@ -45,17 +45,9 @@ typedef struct figures {
   int ok;
 } figures;
 
-/* A sequence of batches traced on one structure: (rays, count, any-hit). */
-typedef struct batch {
-  const lt_ray *rays;
-  size_t count;
-  int any;
-} batch;
-
-
 /* One run of one method over the batches; hits of the last batch land in `hits`. */
-static int run_method(const lt_scene *scene, int method, const batch *batches, int nbatches, int run, figures *f,
-                      lt_hit *hits) {
+static int run_method(const lt_scene *scene, int method, const lt_bench_batch *batches, int nbatches, int run,
+                      figures *f, lt_hit *hits) {
   if (method == EMBREE || method == EMBREE_LOW) {
 #ifdef LT_HAVE_EMBREE
     double build;
@@ -71,17 +63,9 @@ static int run_method(const lt_scene *scene, int method, const batch *batches, i
     return 1;
 #endif
   }
-  lt_structure_config config = lt_bench_method_config(method);
   lt_stats *stats;
-  lt_structure *s = NULL;
-  lt_stats_create(&stats);
-  lt_status status = lt_structure_create(lt_bench_native_context(), scene, &config, stats, &s);
-  for (int b = 0; !status && b < nbatches; b++)
-    status = lt_structure_trace(s, batches[b].rays, batches[b].count, batches[b].any ? LT_QUERY_ANY : LT_QUERY_CLOSEST,
-                                hits, stats);
-  if (status) {
-    fprintf(stderr, "%s: %s\n", lt_bench_method_names[method], lt_last_error());
-    lt_structure_destroy(s);
+  if (lt_stats_create(&stats)) return 1;
+  if (lt_bench_build_and_trace(scene, method, batches, nbatches, hits, stats)) {
     lt_stats_destroy(stats);
     return 1;
   }
@@ -92,13 +76,12 @@ static int run_method(const lt_scene *scene, int method, const batch *batches, i
   f->nodes_full = lt_stats_get(stats, "nodes_full");
   f->sort_ops = lt_stats_get(stats, "sort_ops");
   f->ok = 1;
-  lt_structure_destroy(s);
   lt_stats_destroy(stats);
   return 0;
 }
 
 /* All methods, interleaved run by run; checks lazytrace's closest hits against the full build. */
-static int run_all(const lt_scene *scene, const batch *batches, int nbatches, int runs, figures *f) {
+static int run_all(const lt_scene *scene, const lt_bench_batch *batches, int nbatches, int runs, figures *f) {
   size_t last = batches[nbatches - 1].count, most = 0;
   for (int b = 0; b < nbatches; b++) most = batches[b].count > most ? batches[b].count : most;
   lt_hit *ref = malloc((most + 1) * sizeof *ref), *hits = malloc((most + 1) * sizeof *hits);
@@ -184,7 +167,7 @@ static int table(int argc, char **argv, int runs, int size, int ao, FILE *csv) {
       lt_hit *hits = malloc(n * sizeof *hits);
       lt_camera cam = lt_scene_camera(scene);
       lt_camera_primary_rays(&cam, size, size, primary);
-      batch batches[2] = {{primary, n, 0}, {ao_rays, 0, 1}};
+      lt_bench_batch batches[2] = {{primary, n, 0}, {ao_rays, 0, 1}};
       figures f[METHODS];
       if (run_all(scene, batches, 1, runs, f)) return 1;
       char label[300];
@@ -232,7 +215,7 @@ static int sweep(int runs, int size, int max, FILE *csv) {
     lt_ray *rays = malloc(n * sizeof *rays);
     lt_camera cam = lt_scene_camera(scene);
     lt_camera_primary_rays(&cam, size, size, rays);
-    batch b = {rays, n, 0};
+    lt_bench_batch b = {rays, n, 0};
     figures f[METHODS];
     if (run_all(scene, &b, 1, runs, f)) return 1;
     /* The columns' methods: full, requested, speculative, a fourth for comparison, Embree. */
@@ -299,7 +282,7 @@ static int collide(int argc, char **argv, int runs, FILE *csv) {
         int failed = 0;
         for (int fr = 0; fr < FRAMES && !failed; fr++) {
           lt_collision_rays(paths, agents, per_agent, fr, FRAMES, 43, rays);
-          batch b = {rays, (size_t)agents * per_agent, 0};
+          lt_bench_batch b = {rays, (size_t)agents * per_agent, 0};
           memset(&frame, 0, sizeof frame);
           failed = run_method(scene, m, &b, 1, 0, &frame, hits);
           lt_hit *want = full_hits + fr * frame_rays;

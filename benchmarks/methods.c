@@ -1,6 +1,8 @@
 /* The methods the benchmarks compare (methods.h). */
 #include "benchmarks/methods.h"
 
+#include <stdio.h>
+
 const char *const lt_bench_method_names[LT_BENCH_METHODS] = {
     "full", "requested", "speculative", "lbvh", "kd-full", "kd-requested", "kd-speculative", "embree", "embree-low", "qbvh"};
 
@@ -9,6 +11,19 @@ lt_context *lt_bench_native_context(void) {
   lt_context_config config = {LT_DEVICE_NATIVE, 0, 0, 0, 1};
   if (!ctx && lt_context_create(&config, &ctx) != LT_OK) return NULL;
   return ctx;
+}
+
+lt_status lt_bench_build_and_trace(const lt_scene *scene, int method, const lt_bench_batch *batches, int count,
+                                   lt_hit *hits, lt_stats *stats) {
+  lt_structure_config config = lt_bench_method_config(method);
+  lt_structure *s = NULL;
+  lt_status status = lt_structure_create(lt_bench_native_context(), scene, &config, stats, &s);
+  for (int b = 0; !status && b < count; b++)
+    status = lt_structure_trace(s, batches[b].rays, batches[b].count, batches[b].any ? LT_QUERY_ANY : LT_QUERY_CLOSEST,
+                                hits, stats);
+  if (status) fprintf(stderr, "%s: %s\n", lt_bench_method_names[method], lt_last_error());
+  lt_structure_destroy(s);
+  return status;
 }
 
 lt_structure_config lt_bench_method_config(int method) {

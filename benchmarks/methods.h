@@ -26,6 +26,19 @@ extern const char *const lt_bench_method_names[LT_BENCH_METHODS];
 /* The structure of a lazytrace method (not Embree), with the default parameters. */
 lt_structure_config lt_bench_method_config(int method);
 
+/* A batch of rays traced on one structure: closest hit, or any hit. */
+typedef struct lt_bench_batch {
+  const lt_ray *rays;
+  size_t count;
+  int any;
+} lt_bench_batch;
+
+/* Builds lazytrace method `method` (not Embree) over the scene on the native context and traces
+ * the batches in order on it, the last batch's hits in `hits`, build and trace statistics added
+ * to stats; on failure says on stderr which method failed and why. */
+lt_status lt_bench_build_and_trace(const lt_scene *scene, int method, const lt_bench_batch *batches, int count,
+                                   lt_hit *hits, lt_stats *stats);
+
 /* The native backend with as many work-groups as threads run concurrently, quiet; made once,
  * NULL (with lt_last_error() saying why) if it cannot be. */
 lt_context *lt_bench_native_context(void);

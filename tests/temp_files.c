@@ -50,6 +50,17 @@ const char *lt_test_write_file(const char *name, const char *text) {
   return path;
 }
 
+lt_status lt_test_load_bad(size_t case_number, const char *text, const char **message, lt_scene **scene) {
+  char name[32];
+  snprintf(name, sizeof name, "bad%zu.json", case_number);
+  const char *path = lt_test_write_file(name, text);
+  *scene = NULL;
+  lt_status status = lt_scene_load(path, scene);
+  *message = lt_last_error();
+  if (strncmp(*message, path, strlen(path)) != 0) *message = NULL;
+  return status;
+}
+
 lt_scene *lt_test_load_ok(const char *path) {
   lt_scene *scene = NULL;
   lt_status status = lt_scene_load(path, &scene);

@@ -17,4 +17,9 @@ const char *lt_test_write_file(const char *name, const char *text);
 /* Loads a scene that must load; fails the test with the error otherwise. */
 lt_scene *lt_test_load_ok(const char *path);
 
+/* Writes text to bad<case>.json and loads it as a scene: returns the load's status, with its
+ * error message in *message (NULL unless the message names the file, as every load error must)
+ * and the scene, which a refused load leaves NULL, in *scene. */
+lt_status lt_test_load_bad(size_t case_number, const char *text, const char **message, lt_scene **scene);
+
 #endif

@@ -224,15 +224,12 @@ static void scene_file_errors_name_file_key_and_expectation(void **state) {
       {"[1, 2]", "the top level: expected an object, got an array of 2", LT_ERROR_PARSE},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-    char name[32];
-    snprintf(name, sizeof name, "bad%zu.json", i);
-    const char *path = lt_test_write_file(name, cases[i].json);
-    lt_scene *scene = NULL;
-    lt_status status = lt_scene_load(path, &scene);
-    const char *message = lt_last_error();
-    if (status != cases[i].status || strncmp(message, path, strlen(path)) != 0 || !strstr(message, cases[i].message))
-      fail_msg("case %zu: got %s \"%s\", want %s with \"%s\"", i, lt_status_name(status), message,
-               lt_status_name(cases[i].status), cases[i].message);
+    const char *message;
+    lt_scene *scene;
+    lt_status status = lt_test_load_bad(i, cases[i].json, &message, &scene);
+    if (status != cases[i].status || !message || !strstr(message, cases[i].message))
+      fail_msg("case %zu: got %s \"%s\", want %s naming the file with \"%s\"", i, lt_status_name(status),
+               lt_last_error(), lt_status_name(cases[i].status), cases[i].message);
     assert_null(scene);
   }
   /* A missing scene file is an I/O error that names it. */
