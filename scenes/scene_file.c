@@ -283,10 +283,11 @@ static lt_status read_instance(const reader *r, const cJSON *item, int index, in
  * of the scene; its triangles are placed at time 0 once the whole file is read. */
 static lt_status place(reader *r, const lt_scene *mesh, const placement *p, int index) {
   lt__pose pose = {0.0f, {p->translate[0], p->translate[1], p->translate[2]}, p->rotate_y, p->scale};
+  lt__pose_turn turn = lt__pose_turn_of(&pose);
   size_t first = r->scene->count;
   for (size_t t = 0; t < mesh->count; t++) {
     float v[3][3];
-    for (int k = 0; k < 3; k++) lt__pose_apply(&pose, mesh->tris + 9 * t + 3 * k, v[k]);
+    for (int k = 0; k < 3; k++) lt__pose_apply(&pose, turn, mesh->tris + 9 * t + 3 * k, v[k]);
     lt_status status = lt__scene_add_tri(r->scene, v[0], v[1], v[2]);
     if (status) return status;
   }

@@ -46,9 +46,15 @@ typedef struct lt__motion {
   int count, capacity;
 } lt__motion;
 
-/* Moves the point p (mesh space) by the pose into out; the arithmetic a static instance has
- * always used, so that a pose written once places triangles where it always did. */
-void lt__pose_apply(const lt__pose *pose, const float p[3], float out[3]);
+/* A pose's turn about y as its cosine and sine, computed once for all the points it moves. */
+typedef struct lt__pose_turn {
+  float c, s;
+} lt__pose_turn;
+lt__pose_turn lt__pose_turn_of(const lt__pose *pose);
+/* Moves the point p (mesh space) by the pose, whose turn is `turn`, into out; the arithmetic a
+ * static instance has always used, so that a pose written once places triangles where it
+ * always did. */
+void lt__pose_apply(const lt__pose *pose, lt__pose_turn turn, const float p[3], float out[3]);
 /* Adds a mover over triangles first .. first + count - 1 with copies of rest (9 floats per
  * triangle), burst (LT_BURST_FLOATS per triangle, or NULL) and keys. */
 lt_status lt__motion_add(lt_scene *scene, size_t first, size_t count, const float *rest, const float *burst,

@@ -15,8 +15,14 @@
 /* The explosion's fixed seed: the same pieces fly the same way in every run. */
 #define EXPLODE_SEED 0x5eed0017u
 
-void lt__pose_apply(const lt__pose *pose, const float p[3], float out[3]) {
-  float c = cosf(pose->rotate_y * 3.14159265358979f / 180.0f), s = sinf(pose->rotate_y * 3.14159265358979f / 180.0f);
+lt__pose_turn lt__pose_turn_of(const lt__pose *pose) {
+  float angle = pose->rotate_y * 3.14159265358979f / 180.0f;
+  lt__pose_turn turn = {cosf(angle), sinf(angle)};
+  return turn;
+}
+
+void lt__pose_apply(const lt__pose *pose, lt__pose_turn turn, const float p[3], float out[3]) {
+  float c = turn.c, s = turn.s;
   float x = pose->scale * p[0], y = pose->scale * p[1], z = pose->scale * p[2];
   out[0] = c * x + s * z + pose->translate[0];
   out[1] = y + pose->translate[1];
@@ -138,16 +144,18 @@ void lt_scene_set_time(lt_scene *scene, double time) {
   for (int i = 0; i < scene->motion->count; i++) {
     const lt__mover *m = &scene->motion->movers[i];
     lt__pose pose = pose_at(m, t);
+    lt__pose_turn turn = lt__pose_turn_of(&pose);
+    /* Time 0 leaves the rest shape untouched, so that the first frame is the loaded scene. */
+    int bursts = m->burst && t > 0.0f;
     for (size_t tri = 0; tri < m->count; tri++) {
       const float *rest = m->rest + 9 * tri;
       float *out = scene->tris + 9 * (m->first + tri), g[3], moved[3];
-
-      /* Time 0 leaves the rest shape untouched, so that the first frame is the loaded scene. */
-      for (int k = 0; k < 3; k++) g[k] = (rest[k] + rest[3 + k] + rest[6 + k]) / 3.0f;
+      if (bursts)
+        for (int k = 0; k < 3; k++) g[k] = (rest[k] + rest[3 + k] + rest[6 + k]) / 3.0f;
       for (int v = 0; v < 3; v++) {
-        if (m->burst && t > 0.0f) burst_apply(m->burst + LT_BURST_FLOATS * tri, g, rest + 3 * v, t, moved);
+        if (bursts) burst_apply(m->burst + LT_BURST_FLOATS * tri, g, rest + 3 * v, t, moved);
         else memcpy(moved, rest + 3 * v, sizeof moved);
-        lt__pose_apply(&pose, moved, out + 3 * v);
+        lt__pose_apply(&pose, turn, moved, out + 3 * v);
       }
     }
   }
