@@ -353,7 +353,7 @@ static int steps(int argc, char **argv, int size) {
         lt_stats *stats;
         lt_structure *s = NULL;
         lt_stats_create(&stats);
-        lt_status status = lt_structure_create(lt_bench_native_context(), scene, &config, NULL, &s);
+        lt_status status = lt_structure_create(lt_bench_context(), scene, &config, NULL, &s);
         if (!status) status = lt_structure_trace(s, rays, n, LT_QUERY_CLOSEST, hits, stats);
         if (status) return fprintf(stderr, "%s\n", lt_last_error()), 1;
         printf(" %.1f | %.1f |", lt_stats_get(stats, "traversal_steps") / n, lt_stats_get(stats, "intersections") / n);
@@ -384,7 +384,7 @@ int main(int argc, char **argv) {
     else return fprintf(stderr, "bench_ondemand: unknown option %s\n", argv[i]), 2;
   }
   if (runs < 1 || runs > MAX_RUNS || size < 1 || ao < 1) return fprintf(stderr, "bench_ondemand: bad option value\n"), 2;
-  if (!lt_bench_native_context()) return fprintf(stderr, "%s\n", lt_last_error()), 1;
+  if (!lt_bench_native_context() || !lt_bench_context()) return fprintf(stderr, "%s\n", lt_last_error()), 1;
   FILE *csv = csv_path ? fopen(csv_path, "w") : NULL;
   int rc;
   if (strcmp(argv[1], "table") == 0 && methods_run == BVH_METHODS) methods_run = TABLE1_METHODS;

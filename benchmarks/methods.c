@@ -2,6 +2,8 @@
 #include "benchmarks/methods.h"
 
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 const char *const lt_bench_method_names[LT_BENCH_METHODS] = {
     "full", "requested", "speculative", "lbvh", "kd-full", "kd-requested", "kd-speculative", "embree", "embree-low", "qbvh"};
@@ -13,11 +15,25 @@ lt_context *lt_bench_native_context(void) {
   return ctx;
 }
 
+lt_context *lt_bench_context(void) {
+  static lt_context *ctx;
+  const char *device = getenv("LT_BENCH_DEVICE");
+  if (!device || strcmp(device, "native") == 0) return lt_bench_native_context();
+  if (strcmp(device, "opencl") != 0) {
+    fprintf(stderr, "LT_BENCH_DEVICE=%s: expected native or opencl\n", device);
+    return NULL;
+  }
+  lt_context_config config = {LT_DEVICE_OPENCL, 0, 0, 0, 1};
+  if (!ctx && lt_context_create(&config, &ctx) != LT_OK) return NULL;
+  return ctx;
+}
+
 lt_status lt_bench_build_and_trace(const lt_scene *scene, int method, const lt_bench_batch *batches, int count,
                                    lt_hit *hits, lt_stats *stats) {
   lt_structure_config config = lt_bench_method_config(method);
   lt_structure *s = NULL;
-  lt_status status = lt_structure_create(lt_bench_native_context(), scene, &config, stats, &s);
+  lt_context *ctx = lt_bench_context();
+  lt_status status = ctx ? lt_structure_create(ctx, scene, &config, stats, &s) : LT_ERROR_INVALID_ARGUMENT;
   for (int b = 0; !status && b < count; b++)
     status = lt_structure_trace(s, batches[b].rays, batches[b].count, batches[b].any ? LT_QUERY_ANY : LT_QUERY_CLOSEST,
                                 hits, stats);

@@ -33,7 +33,7 @@ typedef struct lt_bench_batch {
   int any;
 } lt_bench_batch;
 
-/* Builds lazytrace method `method` (not Embree) over the scene on the native context and traces
+/* Builds lazytrace method `method` (not Embree) over the scene on lt_bench_context() and traces
  * the batches in order on it, the last batch's hits in `hits`, build and trace statistics added
  * to stats; on failure says on stderr which method failed and why. */
 lt_status lt_bench_build_and_trace(const lt_scene *scene, int method, const lt_bench_batch *batches, int count,
@@ -42,5 +42,10 @@ lt_status lt_bench_build_and_trace(const lt_scene *scene, int method, const lt_b
 /* The native backend with as many work-groups as threads run concurrently, quiet; made once,
  * NULL (with lt_last_error() saying why) if it cannot be. */
 lt_context *lt_bench_native_context(void);
+
+/* The context the lazytrace methods run on: the native one, or the first OpenCL device where the
+ * environment says LT_BENCH_DEVICE=opencl (Embree keeps the native context's thread count); NULL,
+ * said on stderr or by lt_last_error(), if it cannot be made. */
+lt_context *lt_bench_context(void);
 
 #endif

@@ -54,6 +54,81 @@ LT_DEVICE int lt_v4_any_ge(float4 a, float4 b) { return any(a >= b); }
 #define lt_isfinite(x) isfinite(x)
 #define lt_fabsf(x) fabs(x)
 
+/* The pool's protocol is written for sequentially consistent atomics and fences that order
+ * global memory across the whole device (compat_native.h). OpenCL 1.2 promises neither: its
+ * atomic_* functions order nothing and mem_fence is only defined within a work-group. PoCL on
+ * a CPU gives both anyway. NVIDIA's compiler does not: mem_fence orders only within the SM and
+ * the atomics are relaxed, so work-groups on other SMs saw flags before the data they publish
+ * (wrong trees, early termination). Where the host says the device is NVIDIA's
+ * (LT_FENCE_PTX, runtime/opencl.c), the fence is PTX's device-wide membar.gl, and every atomic
+ * operation sits between two of them, which makes it sequentially consistent as on the native
+ * backend; LT_FENCE_CL20 does the same with OpenCL 2.0's scoped fence, for devices that have
+ * it (-cl-std=CL2.0 or later). */
+#if defined(LT_FENCE_PTX)
+#define lt_fence() __asm__ __volatile__("membar.gl;" ::: "memory")
+#elif defined(LT_FENCE_CL20)
+#define lt_fence() atomic_work_item_fence(CLK_GLOBAL_MEM_FENCE, memory_order_seq_cst, memory_scope_device)
+#else
+#define lt_fence() mem_fence(CLK_GLOBAL_MEM_FENCE)
+#endif
+
+#if defined(LT_FENCE_PTX) || defined(LT_FENCE_CL20)
+inline uint lt__add_u32(volatile LT_GLOBAL uint *p, uint v) {
+  lt_fence();
+  uint old = atomic_add(p, v);
+  lt_fence();
+  return old;
+}
+inline uint lt__cas_u32(volatile LT_GLOBAL uint *p, uint expected, uint desired) {
+  lt_fence();
+  uint old = atomic_cmpxchg(p, expected, desired);
+  lt_fence();
+  return old;
+}
+inline int lt__add_i32(volatile LT_GLOBAL int *p, int v) {
+  lt_fence();
+  int old = atomic_add(p, v);
+  lt_fence();
+  return old;
+}
+inline int lt__cas_i32(volatile LT_GLOBAL int *p, int expected, int desired) {
+  lt_fence();
+  int old = atomic_cmpxchg(p, expected, desired);
+  lt_fence();
+  return old;
+}
+inline int lt__min_i32(volatile LT_GLOBAL int *p, int v) {
+  lt_fence();
+  int old = atomic_min(p, v);
+  lt_fence();
+  return old;
+}
+inline int lt__max_i32(volatile LT_GLOBAL int *p, int v) {
+  lt_fence();
+  int old = atomic_max(p, v);
+  lt_fence();
+  return old;
+}
+inline int lt__load_i32(volatile LT_GLOBAL const int *p) {
+  lt_fence();
+  int v = *p;
+  lt_fence();
+  return v;
+}
+inline void lt__store_i32(volatile LT_GLOBAL int *p, int v) {
+  lt_fence();
+  (void)atomic_xchg(p, v);
+  lt_fence();
+}
+#define lt_atomic_add_u32(p, v) lt__add_u32((volatile LT_GLOBAL uint *)(p), (v))
+#define lt_atomic_cas_u32(p, expected, desired) lt__cas_u32((volatile LT_GLOBAL uint *)(p), (expected), (desired))
+#define lt_atomic_add_i32(p, v) lt__add_i32((volatile LT_GLOBAL int *)(p), (v))
+#define lt_atomic_cas_i32(p, expected, desired) lt__cas_i32((volatile LT_GLOBAL int *)(p), (expected), (desired))
+#define lt_atomic_load_i32(p) lt__load_i32((volatile LT_GLOBAL const int *)(p))
+#define lt_atomic_store_i32(p, v) lt__store_i32((volatile LT_GLOBAL int *)(p), (v))
+#define lt_atomic_min_i32(p, v) lt__min_i32((volatile LT_GLOBAL int *)(p), (v))
+#define lt_atomic_max_i32(p, v) lt__max_i32((volatile LT_GLOBAL int *)(p), (v))
+#else
 #define lt_atomic_add_u32(p, v) atomic_add((volatile LT_GLOBAL uint *)(p), (v))
 #define lt_atomic_cas_u32(p, expected, desired) \
   atomic_cmpxchg((volatile LT_GLOBAL uint *)(p), (expected), (desired))
@@ -68,11 +143,11 @@ LT_DEVICE int lt_v4_any_ge(float4 a, float4 b) { return any(a >= b); }
 #define lt_atomic_store_i32(p, v) ((void)atomic_xchg((volatile LT_GLOBAL int *)(p), (v)))
 #define lt_atomic_min_i32(p, v) atomic_min((volatile LT_GLOBAL int *)(p), (v))
 #define lt_atomic_max_i32(p, v) atomic_max((volatile LT_GLOBAL int *)(p), (v))
-#define lt_fence() mem_fence(CLK_GLOBAL_MEM_FENCE)
+#endif
 /* A load that later reads cannot overtake (a consumer's side of a publication). */
 inline int lt__load_acquire_i32(volatile LT_GLOBAL const int *p) {
   int v = *p;
-  mem_fence(CLK_GLOBAL_MEM_FENCE);
+  lt_fence();
   return v;
 }
 #define lt_atomic_load_acquire_i32(p) lt__load_acquire_i32((volatile LT_GLOBAL const int *)(p))

@@ -86,6 +86,20 @@ static void save_log(lt_context *ctx) {
     clGetProgramBuildInfo(ctx->program, ctx->device, CL_PROGRAM_BUILD_LOG, size, ctx->build_log, NULL);
 }
 
+/* LT_OPENCL_BINARY=FILE writes the built program's binary (PTX on NVIDIA's driver) to FILE, to
+ * read what the device compiler made of the fences and the arithmetic. */
+static void save_binary(lt_context *ctx) {
+  const char *path = getenv("LT_OPENCL_BINARY");
+  size_t size = 0;
+  if (!path || clGetProgramInfo(ctx->program, CL_PROGRAM_BINARY_SIZES, sizeof size, &size, NULL) != CL_SUCCESS) return;
+  unsigned char *binary = malloc(size);
+  FILE *f = binary ? fopen(path, "wb") : NULL;
+  if (f && clGetProgramInfo(ctx->program, CL_PROGRAM_BINARIES, sizeof binary, &binary, NULL) == CL_SUCCESS)
+    fwrite(binary, 1, size, f);
+  if (f) fclose(f);
+  free(binary);
+}
+
 lt_status lt__opencl_program(lt_context *ctx) {
   if (ctx->program) return LT_OK;
   double start = lt_now_ms();
@@ -98,12 +112,20 @@ lt_status lt__opencl_program(lt_context *ctx) {
   char header[64];
   snprintf(header, sizeof header, "/* lazytrace kernel source %016llx */\n", (unsigned long long)hash);
   const char *parts[2] = {header, source};
+  /* The fences the device needs (device/compat_opencl.h): NVIDIA's are PTX. LT_OPENCL_OPTIONS
+   * adds build options for experiments (another -D, or -cl-std=CL3.0 -DLT_FENCE_CL20). */
+  char vendor[128] = "", options[512];
+  clGetDeviceInfo(ctx->device, CL_DEVICE_VENDOR, sizeof vendor, vendor, NULL);
+  const char *extra = getenv("LT_OPENCL_OPTIONS");
+  snprintf(options, sizeof options, "%s%s %s", BUILD_OPTIONS, strstr(vendor, "NVIDIA") ? " -DLT_FENCE_PTX" : "",
+           extra ? extra : "");
   cl_int err;
   ctx->program = clCreateProgramWithSource(ctx->cl, 2, parts, NULL, &err);
   free(source);
   if (err != CL_SUCCESS) return lt__opencl_check(err, "clCreateProgramWithSource");
-  err = clBuildProgram(ctx->program, 1, &ctx->device, BUILD_OPTIONS, NULL, NULL);
+  err = clBuildProgram(ctx->program, 1, &ctx->device, options, NULL, NULL);
   save_log(ctx);
+  if (err == CL_SUCCESS) save_binary(ctx);
   if (err != CL_SUCCESS)
     return lt__fail(LT_ERROR_PROGRAM_BUILD, "kernel build failed (OpenCL error %d):\n%s", err,
                     ctx->build_log ? ctx->build_log : "");
