@@ -4,14 +4,15 @@
  * for bit, and which path the library takes (AVX2 or LT_QBVH_WIDTH=4). Hits against the
  * brute-force reference through the library, on every generator and the closed meshes, are
  * tests/test_qbvh.c's (the native default is this path). Tests that need AVX2 skip without it. */
-#include <cmocka.h>
-#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include <cmocka.h>
 
 #include "builders/host/bvh8_collapse.h"
 #include "builders/host/qbvh_collapse.h"
