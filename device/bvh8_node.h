@@ -7,13 +7,8 @@
  * plane, lane i is child i) and each child's link, told by its count as in the QBVH:
  *
  *   inner   count < 0: its own children are the first -count lanes of node `first`
- *   leaf    count > 0: `count` triangles in ceil(count / 4) blocks (lt_tri4) from block `first`
+ *   leaf    count > 0: `count` triangles (lt_tri, leaf order) from position `first`
  *   empty   count == 0: an unused lane
- *
- * A leaf's triangles are also gathered into blocks of four in SoA form (lt_tri4, as Embree's
- * Triangle4), so that one vector pass computes the watertight test's edge functions of four
- * triangles and rejects those the ray passes outside of; each lane names its triangle in the
- * leaf-order array (lt_tri), where the one-triangle test finds it.
  *
  * Node 0 holds the root's children. The traversal's stack holds children (first, count and
  * entry distance), not nodes, so no bits of an index are given up and the node count is
@@ -37,14 +32,7 @@ typedef struct lt_bvh8_node {
   lt_i32 count[8]; /* 32 bytes: per child, -children (inner), triangles (leaf), 0 (empty) */
 } lt_bvh8_node;
 
-/* Four triangles of a leaf, SoA: v[3 * j + k] is coordinate k of vertex j, lane i triangle i. */
-typedef struct lt_tri4 {
-  float v[9][4]; /* 144 bytes: v0.x v0.y v0.z v1.x v1.y v1.z v2.x v2.y v2.z, four lanes each */
-  lt_i32 tri[4]; /* 16 bytes: each lane's position in the leaf-order triangles, -1 past the leaf's end */
-} lt_tri4;
-
 #ifndef __OPENCL_VERSION__
-_Static_assert(sizeof(lt_tri4) == 160, "lt_tri4 is 160 bytes");
 _Static_assert(sizeof(lt_bvh8_node) == 256, "lt_bvh8_node is four 64-byte lines");
 #endif
 

@@ -1,7 +1,6 @@
 /* The QBVH's native 8-wide path (device/bvh8_node.h, traversal/bvh8_traverse.h): the
- * collapse's tree (every triangle once in the leaves' blocks, exact boxes, siblings together,
- * the depth), the AVX2 box test against the plain per-lane one, the leaves' filter against
- * testing every triangle, whole traversals against the 4-wide QBVH's hits bit
+ * collapse's tree (every triangle once, exact boxes, siblings together, the depth), the AVX2
+ * box test against the plain per-lane one, whole traversals against the 4-wide QBVH's hits bit
  * for bit, and which path the library takes (AVX2 or LT_QBVH_WIDTH=4). Hits against the
  * brute-force reference through the library, on every generator and the closed meshes, are
  * tests/test_qbvh.c's (the native default is this path). Tests that need AVX2 skip without it. */
@@ -51,26 +50,16 @@ static lt_box walk_node(walk *w, int at, int depth) {
     assert_int_equal(lane, lanes); /* siblings are the first lanes, together */
     lanes++;
     if (count > 0) {
-      /* A leaf: its blocks hold its triangles' vertices, each triangle seen once, lanes past
-       * its end unused; its box the triangles' exact bounds. */
-      assert_true(first >= 0 && first + (count + 3) / 4 <= w->w8->block_count);
-      for (int i = 0; i < (count + 3) / 4 * 4; i++) {
-        const lt_tri4 *b = &w->w8->blocks[first + i / 4];
-        int p = b->tri[i % 4];
-        if (i >= count) {
-          assert_int_equal(p, -1);
-          continue;
-        }
-        assert_true(p >= 0 && p < w->bvh->tri_count);
-        assert_false(w->seen_tri[p]);
-        w->seen_tri[p] = 1;
-        const lt_tri *t = &w->bvh->tris[p];
+      /* A leaf: triangles seen once, and its box their exact bounds. */
+      assert_true(first >= 0 && first + count <= w->bvh->tri_count);
+      for (int i = first; i < first + count; i++) {
+        assert_false(w->seen_tri[i]);
+        w->seen_tri[i] = 1;
+        const lt_tri *t = &w->bvh->tris[i];
         const lt_float4 *v[3] = {&t->v0, &t->v1, &t->v2};
         for (int c = 0; c < 3; c++) {
-          const float xyz[3] = {v[c]->x, v[c]->y, v[c]->z};
-          for (int k = 0; k < 3; k++) assert_memory_equal(&b->v[3 * c + k][i % 4], &xyz[k], sizeof(float));
-          lt_box pt = {{v[c]->x, v[c]->y, v[c]->z}, {v[c]->x, v[c]->y, v[c]->z}};
-          lt_box_grow(&exact, &pt);
+          lt_box p = {{v[c]->x, v[c]->y, v[c]->z}, {v[c]->x, v[c]->y, v[c]->z}};
+          lt_box_grow(&exact, &p);
         }
       }
       w->leaves++;
@@ -143,9 +132,8 @@ static void trace_host(int how, const lt__bvh8 *w8, const lt__qbvh *q, const lt_
     r.flags = flags;
     lt_hit_record hit;
     lt_i32 deepest = 0;
-    int status = how == QBVH4
-                     ? lt_qbvh_traverse(q->nodes, bvh->tris, &r, &hit, c, &deepest)
-                     : lt_bvh8_traverse_with(w8->nodes, w8->blocks, bvh->tris, &r, &hit, c, how == WIDE_VECTOR);
+    int status = how == QBVH4 ? lt_qbvh_traverse(q->nodes, bvh->tris, &r, &hit, c, &deepest)
+                              : lt_bvh8_traverse_with(w8->nodes, bvh->tris, &r, &hit, c, how == WIDE_VECTOR);
     assert_int_equal(status, 0);
     if (hit.prim < 0) hit.t = INFINITY, hit.u = hit.v = 0.0f;
     hits[i] = (lt_hit){hit.t, hit.u, hit.v, hit.prim};
@@ -153,11 +141,9 @@ static void trace_host(int how, const lt__bvh8 *w8, const lt__qbvh *q, const lt_
 }
 
 /* Rays with +0 and -0 components, axis-aligned and diagonal, from inside a cube of shared
- * edges (through its vertices and edges), and random ones: both box tests give every node the
- * same mask and entry distances; the 8-wide traversal with the vector boxes and the leaves'
- * four-triangle filter gives the same hits and counters as with plain boxes and every triangle
- * tested, and the same hits as the QBVH, for closest and any hit, watertight and fast
- * triangles, with and without the conservative widening. */
+ * edges, and random ones: both box tests give every node the same mask and entry distances;
+ * the 8-wide traversals give the same hits and counters, and the same hits as the QBVH, for
+ * closest and any hit, with and without the conservative widening. */
 static void qbvh8_vector_and_plain_box_tests_agree(void **state) {
   (void)state;
   if (!lt_bvh8_supported()) skip();
@@ -170,11 +156,7 @@ static void qbvh8_vector_and_plain_box_tests_agree(void **state) {
   lt_hit *a = malloc(N * sizeof *a), *b = malloc(N * sizeof *b), *q4 = malloc(N * sizeof *q4);
   assert_non_null(rays);
   for (int s = 0; s < 2; s++) {
-    /* In the cube, rays at its vertices and edges from inside; in the hairball, random ones. */
-    if (s == 0)
-      assert_int_equal(lt_hc_closed_rays(&cube, 11, N, rays), N);
-    else
-      lt_test_random_rays(scenes[s], 11 + (uint64_t)s, N, rays);
+    lt_test_random_rays(scenes[s], 11 + (uint64_t)s, N, rays);
     /* A quarter of the rays along axes and diagonals, zero components signed both ways. */
     for (size_t i = 0; i < N / 4; i++) {
       int d = (int)(i % 26), code = d < 13 ? d : d + 1;
@@ -290,9 +272,7 @@ static void qbvh8_native_path_follows_the_cpu_and_the_switch(void **state) {
     double tris = (double)lt_scene_triangle_count(scene);
     double node_bytes = wide ? 256.0 * w8.node_count : 128.0 * q.node_count;
     assert_true(lt_stats_get(stats, "node_bytes") == node_bytes);
-    double block_bytes = wide ? 160.0 * w8.block_count : 0.0;
-    assert_true(lt_stats_get(stats, "reference_bytes") == 48.0 * tris + block_bytes);
-    assert_true(lt_stats_get(stats, "memory_bytes") == node_bytes + 48.0 * tris + block_bytes);
+    assert_true(lt_stats_get(stats, "memory_bytes") == node_bytes + 48.0 * tris);
     assert_true(lt_stats_get(stats, "max_depth") == (wide ? w8.max_depth : q.max_depth));
     assert_true(lt_stats_get(stats, "nodes_built") ==
                 (wide ? (double)w8.node_count + w8.leaf_count : (double)q.node_count + q.leaf_count));

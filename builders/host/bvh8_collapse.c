@@ -12,27 +12,7 @@ typedef struct collapser {
   const lt__bvh *bvh;
   lt__bvh8 *out; /* NULL while counting */
   int next;      /* nodes handed out */
-  int blocks;    /* triangle blocks handed out */
 } collapser;
-
-/* Gathers the `count` leaf-order triangles from position `first` into blocks from `at`. */
-static void write_blocks(const lt__bvh *bvh, int first, int count, lt_tri4 *at) {
-  for (int i = 0; i < (count + 3) / 4 * 4; i++) {
-    lt_tri4 *b = &at[i / 4];
-    int lane = i % 4;
-    if (i >= count) {
-      /* Past the leaf's end: a copy of its first triangle, never tested (the lane is masked). */
-      for (int j = 0; j < 9; j++) b->v[j][lane] = b->v[j][0];
-      b->tri[lane] = -1;
-      continue;
-    }
-    const lt_tri *t = &bvh->tris[first + i];
-    const lt_float4 *v[3] = {&t->v0, &t->v1, &t->v2};
-    for (int j = 0; j < 3; j++)
-      b->v[3 * j][lane] = v[j]->x, b->v[3 * j + 1][lane] = v[j]->y, b->v[3 * j + 2][lane] = v[j]->z;
-    b->tri[lane] = first + i;
-  }
-}
 
 /* Makes the node holding the children of binary inner node `link` at `depth` (node 0 is at
  * depth 1), then its inner children's nodes; returns its index and puts its children. */
@@ -43,19 +23,15 @@ static int collapse(collapser *c, int link, int depth, int *children) {
   int at = c->next++;
   if (c->out && depth > c->out->max_depth) c->out->max_depth = depth;
   for (int lane = 0; lane < LT_BVH8_WIDTH; lane++) {
-    /* Empty lanes get empty boxes and count 0; a leaf's triangles go into its blocks. */
+    /* Empty lanes get empty boxes and count 0; leaves keep the binary tree's triangles. */
     if (lane >= n || !lt__bvh_child_is_inner(&kids[lane])) {
-      int blocks = lane < n ? (kids[lane].count + 3) / 4 : 0, first_block = c->blocks;
-      c->blocks += blocks;
       if (!c->out) continue;
-      if (lane >= n) {
-        lt_box empty = lt_box_empty();
+      lt_box empty = lt_box_empty();
+      if (lane >= n)
         lt_bvh8_write_child(&c->out->nodes[at], lane, &empty, -1, 0);
-        continue;
-      }
-      write_blocks(c->bvh, kids[lane].link, kids[lane].count, &c->out->blocks[first_block]);
-      lt_bvh8_write_child(&c->out->nodes[at], lane, &kids[lane].box, first_block, kids[lane].count);
-      c->out->leaf_count++;
+      else
+        lt_bvh8_write_child(&c->out->nodes[at], lane, &kids[lane].box, kids[lane].link, kids[lane].count);
+      if (lane < n) c->out->leaf_count++;
       continue;
     }
     /* Depth first: a node's first inner child's node follows it in memory. */
@@ -69,26 +45,22 @@ static int collapse(collapser *c, int link, int depth, int *children) {
 lt_status lt__bvh8_collapse(const lt__bvh *bvh, lt__bvh8 *out) {
   memset(out, 0, sizeof *out);
   if (!bvh || !bvh->nodes || bvh->node_count < 1) return LT_ERROR_INVALID_ARGUMENT;
-  collapser counting = {bvh, NULL, 0, 0};
+  collapser counting = {bvh, NULL, 0};
   int children;
   collapse(&counting, 0, 1, &children);
 
   /* A node is 256 bytes: aligned to cache lines, one visit reads four whole lines. */
   size_t bytes = (size_t)counting.next * sizeof(lt_bvh8_node);
-  size_t block_bytes = ((size_t)counting.blocks * sizeof(lt_tri4) + 63) / 64 * 64;
   out->nodes = aligned_alloc(64, bytes);
-  out->blocks = aligned_alloc(64, block_bytes > 0 ? block_bytes : 64);
-  if (!out->nodes || !out->blocks) return lt__bvh8_free(out), LT_ERROR_OUT_OF_MEMORY;
+  if (!out->nodes) return LT_ERROR_OUT_OF_MEMORY;
   memset(out->nodes, 0, bytes);
-  collapser c = {bvh, out, 0, 0};
+  collapser c = {bvh, out, 0};
   collapse(&c, 0, 1, &children);
   out->node_count = c.next;
-  out->block_count = c.blocks;
   return LT_OK;
 }
 
 void lt__bvh8_free(lt__bvh8 *bvh8) {
   free(bvh8->nodes);
-  free(bvh8->blocks);
   memset(bvh8, 0, sizeof *bvh8);
 }

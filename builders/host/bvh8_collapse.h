@@ -6,13 +6,11 @@
 #include "builders/host/bvh_sah.h"
 #include "device/bvh8_node.h"
 
-/* The nodes of an 8-wide tree and its leaves' triangle blocks, whose lanes point into the
- * binary BVH's triangles (lt__bvh.tris). */
+/* The nodes of an 8-wide tree; its leaves point into the binary BVH's triangles (lt__bvh.tris),
+ * as the QBVH's do. */
 typedef struct lt__bvh8 {
   lt_bvh8_node *nodes; /* node 0 holds the root's children; 64-byte aligned */
   int node_count;
-  lt_tri4 *blocks; /* the leaves' triangles, four a block, leaf after leaf; 64-byte aligned */
-  int block_count;
   int leaf_count;
   int max_depth; /* nodes on the longest path from node 0 to a leaf's node */
 } lt__bvh8;
