@@ -141,7 +141,7 @@ static void trace_host(int how, const lt__bvh8 *w8, const lt__qbvh *q, const lt_
 }
 
 /* Rays with +0 and -0 components, axis-aligned and diagonal, from inside a cube of shared
- * edges, and random ones: both box tests give every node the same mask and entry distances;
+ * edges (aimed at its vertices and edges), and random ones: both box tests give every node the same mask and entry distances;
  * the 8-wide traversals give the same hits and counters, and the same hits as the QBVH, for
  * closest and any hit, with and without the conservative widening. */
 static void qbvh8_vector_and_plain_box_tests_agree(void **state) {
@@ -156,7 +156,9 @@ static void qbvh8_vector_and_plain_box_tests_agree(void **state) {
   lt_hit *a = malloc(N * sizeof *a), *b = malloc(N * sizeof *b), *q4 = malloc(N * sizeof *q4);
   assert_non_null(rays);
   for (int s = 0; s < 2; s++) {
-    lt_test_random_rays(scenes[s], 11 + (uint64_t)s, N, rays);
+    /* In the cube, rays at its vertices and edges from inside; in the hairball, random ones. */
+    if (s == 0) assert_int_equal(lt_hc_closed_rays(&cube, 11, N, rays), N);
+    else lt_test_random_rays(scenes[s], 11 + (uint64_t)s, N, rays);
     /* A quarter of the rays along axes and diagonals, zero components signed both ways. */
     for (size_t i = 0; i < N / 4; i++) {
       int d = (int)(i % 26), code = d < 13 ? d : d + 1;
