@@ -29,6 +29,7 @@ typedef struct qbvh_state {
   lt__bvh8 bvh8;  /* the 8-wide one (native, AVX2) */
   int width;      /* 4 or 8: which of the two is traced */
   lt__buffer nodes, tris; /* on the device (on native, the arrays themselves) */
+  lt__buffer blocks;      /* the 8-wide tree's triangle blocks (native) */
 } qbvh_state;
 
 /* The trace kernel's arguments from its one list (kernels/qbvh_trace.h). */
@@ -77,11 +78,18 @@ static lt_status create(lt_structure *s, lt_stats *stats) {
   free(q->bvh.nodes);
   q->bvh.nodes = NULL;
 
-  if (q->width == 8)
+  if (q->width == 8) {
+    /* The 8-wide tree has its own triangles (padded leaves) and their blocks. */
+    free(q->bvh.tris);
+    q->bvh.tris = NULL;
     status = lt__buffer_wrap(s->ctx, &q->nodes, q->bvh8.nodes, (size_t)q->bvh8.node_count * sizeof(lt_bvh8_node));
-  else
+    if (!status)
+      status = lt__buffer_wrap(s->ctx, &q->blocks, q->bvh8.blocks, (size_t)q->bvh8.tri_slots / 4 * sizeof(lt_tri4));
+    if (!status) status = lt__buffer_wrap(s->ctx, &q->tris, q->bvh8.tris, (size_t)q->bvh8.tri_slots * sizeof(lt_tri));
+  } else {
     status = lt__buffer_wrap(s->ctx, &q->nodes, q->qbvh.nodes, (size_t)q->qbvh.node_count * sizeof(lt_qbvh_node));
-  if (!status) status = lt__buffer_wrap(s->ctx, &q->tris, q->bvh.tris, (size_t)q->bvh.tri_count * sizeof(lt_tri));
+    if (!status) status = lt__buffer_wrap(s->ctx, &q->tris, q->bvh.tris, (size_t)q->bvh.tri_count * sizeof(lt_tri));
+  }
   lt__stats_add(stats, LT_STAT_BUILD_MS, lt_now_ms() - start);
   lt__stats_add(stats, LT_STAT_SORT_OPS, (double)q->bvh.sort_ops);
   return status;
@@ -91,7 +99,7 @@ static lt_status trace(lt_structure *s, const lt_ray *rays, int count, int flags
   qbvh_state *q = s->state;
 #if defined(__x86_64__)
   if (q->width == 8) {
-    trace8_args args8 = {NULL, NULL, 0, 0, &q->nodes, &q->tris};
+    trace8_args args8 = {NULL, NULL, 0, 0, &q->nodes, &q->blocks, &q->tris};
     lt_bvh8_trace_view view8;
     lt__trace_call call8 = {"lt_qbvh_trace", lt__native_bvh8_trace_kernel, trace8_args_set_any, trace8_args_view_any,
                             &args8, &args8.rays, &args8.hits, &args8.ray_count, &args8.flags, &view8};
@@ -110,7 +118,8 @@ static void put_stats(lt_structure *s, lt_stats *stats) {
   int wide = q->width == 8;
   size_t node_bytes = wide ? (size_t)q->bvh8.node_count * sizeof(lt_bvh8_node)
                            : (size_t)q->qbvh.node_count * sizeof(lt_qbvh_node);
-  size_t ref_bytes = (size_t)q->bvh.tri_count * sizeof(lt_tri);
+  size_t ref_bytes = wide ? (size_t)q->bvh8.tri_slots * (sizeof(lt_tri) + sizeof(lt_tri4) / 4)
+                          : (size_t)q->bvh.tri_count * sizeof(lt_tri);
   double nodes = wide ? (double)q->bvh8.node_count + q->bvh8.leaf_count : (double)q->qbvh.node_count + q->qbvh.leaf_count;
   lt__stats_put(stats, LT_STAT_REFERENCES, (double)lt_scene_triangle_count(s->scene));
   lt__stats_put(stats, LT_STAT_NODES_BUILT, nodes);
@@ -127,6 +136,7 @@ static void release(lt_structure *s) {
   qbvh_state *q = s->state;
   lt__buffer_release(&q->nodes);
   lt__buffer_release(&q->tris);
+  lt__buffer_release(&q->blocks);
   lt__qbvh_free(&q->qbvh);
   lt__bvh8_free(&q->bvh8);
   lt__bvh_free(&q->bvh);

@@ -1,6 +1,7 @@
 /* The QBVH's native 8-wide path (device/bvh8_node.h, traversal/bvh8_traverse.h): the
- * collapse's tree (every triangle once, exact boxes, siblings together, the depth), the AVX2
- * box test against the plain per-lane one, whole traversals against the 4-wide QBVH's hits bit
+ * collapse's tree (every triangle once, padded leaves and their blocks, exact boxes, siblings
+ * together, the depth), the AVX2 box test against the plain per-lane one, the big leaves'
+ * four-triangle filter against testing every triangle, whole traversals against the 4-wide QBVH's hits bit
  * for bit, and which path the library takes (AVX2 or LT_QBVH_WIDTH=4). Hits against the
  * brute-force reference through the library, on every generator and the closed meshes, are
  * tests/test_qbvh.c's (the native default is this path). Tests that need AVX2 skip without it. */
@@ -50,14 +51,20 @@ static lt_box walk_node(walk *w, int at, int depth) {
     assert_int_equal(lane, lanes); /* siblings are the first lanes, together */
     lanes++;
     if (count > 0) {
-      /* A leaf: triangles seen once, and its box their exact bounds. */
-      assert_true(first >= 0 && first + count <= w->bvh->tri_count);
+      /* A leaf: from a multiple of four in the tree's own triangles, each scene triangle seen
+       * once, its block lanes the same vertices; its box the triangles' exact bounds. */
+      assert_true(first >= 0 && first % 4 == 0 && first + count <= w->w8->tri_slots);
       for (int i = first; i < first + count; i++) {
-        assert_false(w->seen_tri[i]);
-        w->seen_tri[i] = 1;
-        const lt_tri *t = &w->bvh->tris[i];
+        const lt_tri *t = &w->w8->tris[i];
+        int prim = lt_float_as_int(t->v0.w);
+        assert_true(prim >= 0 && prim < w->bvh->tri_count);
+        assert_false(w->seen_tri[prim]);
+        w->seen_tri[prim] = 1;
         const lt_float4 *v[3] = {&t->v0, &t->v1, &t->v2};
         for (int c = 0; c < 3; c++) {
+          const float xyz[3] = {v[c]->x, v[c]->y, v[c]->z};
+          for (int k = 0; k < 3; k++)
+            assert_memory_equal(&w->w8->blocks[i / 4].v[3 * c + k][i % 4], &xyz[k], sizeof(float));
           lt_box p = {{v[c]->x, v[c]->y, v[c]->z}, {v[c]->x, v[c]->y, v[c]->z}};
           lt_box_grow(&exact, &p);
         }
@@ -78,8 +85,9 @@ static lt_box walk_node(walk *w, int at, int depth) {
   return all;
 }
 
-static void build(const lt_scene *scene, lt__bvh *bvh, lt__bvh8 *w8) {
+static void build_with(const lt_scene *scene, float traversal_cost, lt__bvh *bvh, lt__bvh8 *w8) {
   lt__sah_config sah = lt__sah_config_default();
+  sah.traversal_cost = traversal_cost;
   assert_int_equal(lt__bvh_build_sah(lt_scene_triangles(scene), lt_scene_triangle_count(scene), &sah, bvh), LT_OK);
   assert_int_equal(lt__bvh8_collapse(bvh, w8), LT_OK);
   walk w = {w8, bvh, calloc((size_t)bvh->tri_count, 1), calloc((size_t)w8->node_count, 1), 0, 0};
@@ -93,6 +101,17 @@ static void build(const lt_scene *scene, lt__bvh *bvh, lt__bvh8 *w8) {
   assert_int_equal(w.max_depth, w8->max_depth);
   assert_true(w8->max_depth <= (bvh->max_depth > 0 ? bvh->max_depth : 1));
   free(w.seen_tri), free(w.seen_node);
+}
+
+static void build(const lt_scene *scene, lt__bvh *bvh, lt__bvh8 *w8) { build_with(scene, 1.0f, bvh, w8); }
+
+/* Triangles in leaves the filter takes (at least LT_BVH8_FILTER_MIN). */
+static int filtered_triangles(const lt__bvh8 *w8) {
+  int n = 0;
+  for (int i = 0; i < w8->node_count; i++)
+    for (int lane = 0; lane < LT_BVH8_WIDTH; lane++)
+      if (w8->nodes[i].count[lane] >= LT_BVH8_FILTER_MIN) n += w8->nodes[i].count[lane];
+  return n;
 }
 
 /* The tree of every kind of generator: exact, complete, shallower than the 4-wide one. */
@@ -133,7 +152,7 @@ static void trace_host(int how, const lt__bvh8 *w8, const lt__qbvh *q, const lt_
     lt_hit_record hit;
     lt_i32 deepest = 0;
     int status = how == QBVH4 ? lt_qbvh_traverse(q->nodes, bvh->tris, &r, &hit, c, &deepest)
-                              : lt_bvh8_traverse_with(w8->nodes, bvh->tris, &r, &hit, c, how == WIDE_VECTOR);
+                              : lt_bvh8_traverse_with(w8->nodes, w8->blocks, w8->tris, &r, &hit, c, how == WIDE_VECTOR);
     assert_int_equal(status, 0);
     if (hit.prim < 0) hit.t = INFINITY, hit.u = hit.v = 0.0f;
     hits[i] = (lt_hit){hit.t, hit.u, hit.v, hit.prim};
@@ -141,9 +160,12 @@ static void trace_host(int how, const lt__bvh8 *w8, const lt__qbvh *q, const lt_
 }
 
 /* Rays with +0 and -0 components, axis-aligned and diagonal, from inside a cube of shared
- * edges (aimed at its vertices and edges), and random ones: both box tests give every node the same mask and entry distances;
- * the 8-wide traversals give the same hits and counters, and the same hits as the QBVH, for
- * closest and any hit, with and without the conservative widening. */
+ * edges (aimed at its vertices and edges), and random ones: both box tests give every node the
+ * same mask and entry distances; the 8-wide traversal with vector boxes and the big leaves'
+ * four-triangle filter gives the same hits and counters as with plain boxes and every
+ * triangle tested alone, and the same hits as the QBVH, for closest and any hit, watertight
+ * and fast triangles, with and without the conservative widening. The trees are built with a
+ * high node cost, so that leaves of up to 16 triangles make the filter run. */
 static void qbvh8_vector_and_plain_box_tests_agree(void **state) {
   (void)state;
   if (!lt_bvh8_supported()) skip();
@@ -157,8 +179,10 @@ static void qbvh8_vector_and_plain_box_tests_agree(void **state) {
   assert_non_null(rays);
   for (int s = 0; s < 2; s++) {
     /* In the cube, rays at its vertices and edges from inside; in the hairball, random ones. */
-    if (s == 0) assert_int_equal(lt_hc_closed_rays(&cube, 11, N, rays), N);
-    else lt_test_random_rays(scenes[s], 11 + (uint64_t)s, N, rays);
+    if (s == 0)
+      assert_int_equal(lt_hc_closed_rays(&cube, 11, N, rays), N);
+    else
+      lt_test_random_rays(scenes[s], 11 + (uint64_t)s, N, rays);
     /* A quarter of the rays along axes and diagonals, zero components signed both ways. */
     for (size_t i = 0; i < N / 4; i++) {
       int d = (int)(i % 26), code = d < 13 ? d : d + 1;
@@ -169,9 +193,10 @@ static void qbvh8_vector_and_plain_box_tests_agree(void **state) {
     }
     lt__bvh bvh;
     lt__bvh8 w8;
-    build(scenes[s], &bvh, &w8);
+    build_with(scenes[s], 8.0f, &bvh, &w8);
     lt__qbvh q;
     assert_int_equal(lt__qbvh_collapse(&bvh, LT_QBVH_MAX_NODES, &q), LT_OK);
+    assert_true(filtered_triangles(&w8) > bvh.tri_count / 2);
 
     /* Node by node. */
     size_t lanes_hit = 0;
@@ -274,7 +299,9 @@ static void qbvh8_native_path_follows_the_cpu_and_the_switch(void **state) {
     double tris = (double)lt_scene_triangle_count(scene);
     double node_bytes = wide ? 256.0 * w8.node_count : 128.0 * q.node_count;
     assert_true(lt_stats_get(stats, "node_bytes") == node_bytes);
-    assert_true(lt_stats_get(stats, "memory_bytes") == node_bytes + 48.0 * tris);
+    double ref_bytes = wide ? (48.0 + 36.0) * w8.tri_slots : 48.0 * tris;
+    assert_true(lt_stats_get(stats, "reference_bytes") == ref_bytes);
+    assert_true(lt_stats_get(stats, "memory_bytes") == node_bytes + ref_bytes);
     assert_true(lt_stats_get(stats, "max_depth") == (wide ? w8.max_depth : q.max_depth));
     assert_true(lt_stats_get(stats, "nodes_built") ==
                 (wide ? (double)w8.node_count + w8.leaf_count : (double)q.node_count + q.leaf_count));

@@ -10,6 +10,15 @@
  * the scalar watertight (or fast) test itself: hits are bit for bit those of every other
  * structure. A ray with a zero direction component takes the plain per-lane form.
  *
+ * Leaves of at least LT_BVH8_FILTER_MIN triangles: the watertight test's edge functions of a
+ * block of four (device/bvh8_node.h, lt_tri4) are computed as one SSE vector each, in the same
+ * operations and order as the one-triangle test computes them, so every lane holds the very
+ * floats that test would get. A lane whose three are non-zero and of mixed signs is one the
+ * test rejects at that point; every other lane (a possible hit, or an edge function of exactly
+ * 0 that the test recomputes in double) goes through the one-triangle test itself. So the
+ * filter drops only triangles the test would drop, and hits stay bit for bit. Smaller leaves,
+ * and Moller-Trumbore (the fast option), test triangle by triangle.
+ *
  * Traversal: at an inner child the ray meets its children's eight boxes; one entered goes on
  * at once, several go on the stack with their entry distances sorted so that the nearest is
  * on top and taken next. Leaves wait on the stack like inner children, so triangles are tested
@@ -46,14 +55,19 @@ static inline int lt_bvh8_supported(void) {
 /* The ray's origin, reciprocal direction and tmin, one lane per box, made once per ray. */
 typedef struct lt_bvh8_ray {
   __m256 org[3], inv[3], tmin;
-  int parallel; /* some direction component is 0 (or -0): the plain form decides */
-  int widen;    /* conservative rounding (all but the accuracy report's plain slabs) */
+  __m128 org4[3], sx4, sy4; /* origin and shear, one lane per triangle */
+  int parallel;             /* some direction component is 0 (or -0): the plain form decides */
+  int widen;                /* conservative rounding (all but the accuracy report's plain slabs) */
+  int filter;               /* the watertight test: big leaves are filtered four triangles at a time */
 } lt_bvh8_ray;
 
 LT_BVH8_TARGET static inline lt_bvh8_ray lt_bvh8_ray_make(const lt_ray_setup *r) {
   lt_bvh8_ray q;
   for (int k = 0; k < 3; k++) q.org[k] = _mm256_set1_ps(r->org[k]), q.inv[k] = _mm256_set1_ps(r->inv_dir[k]);
   q.tmin = _mm256_set1_ps(r->tmin);
+  for (int k = 0; k < 3; k++) q.org4[k] = _mm_set1_ps(r->org[k]);
+  q.sx4 = _mm_set1_ps(r->sx), q.sy4 = _mm_set1_ps(r->sy);
+  q.filter = !(r->flags & LT_QUERY_FLAG_FAST_TRIANGLES);
   q.parallel = r->dir[0] == 0.0f || r->dir[1] == 0.0f || r->dir[2] == 0.0f;
   q.widen = !(r->flags & LT_QUERY_FLAG_PLAIN_SLABS);
   return q;
@@ -104,13 +118,49 @@ LT_BVH8_TARGET static inline int lt_bvh8_box8(const lt_ray_setup *r, const lt_bv
   return _mm256_movemask_ps(_mm256_cmp_ps(near_t, far_t, _CMP_LE_OS)) & lt_bvh8_child_lanes(n);
 }
 
+/* One bit per lane of the block that the watertight test might not reject by the signs of
+ * its edge functions (see the top of this file): lt_intersect_watertight's first steps, four
+ * triangles at once, with the same operations in the same order. */
+LT_BVH8_TARGET static inline int lt_bvh8_tri4_candidates(const lt_ray_setup *r, const lt_bvh8_ray *q,
+                                                         const lt_tri4 *b) {
+  /* Vertices relative to the origin, sheared and scaled into ray space. */
+  __m128 a[3], bb[3], c[3];
+  for (int k = 0; k < 3; k++) {
+    a[k] = _mm_sub_ps(_mm_load_ps(b->v[k]), q->org4[k]);
+    bb[k] = _mm_sub_ps(_mm_load_ps(b->v[3 + k]), q->org4[k]);
+    c[k] = _mm_sub_ps(_mm_load_ps(b->v[6 + k]), q->org4[k]);
+  }
+  int kx = r->kx, ky = r->ky, kz = r->kz;
+  __m128 ax = _mm_sub_ps(a[kx], _mm_mul_ps(q->sx4, a[kz])), ay = _mm_sub_ps(a[ky], _mm_mul_ps(q->sy4, a[kz]));
+  __m128 bx = _mm_sub_ps(bb[kx], _mm_mul_ps(q->sx4, bb[kz])), by = _mm_sub_ps(bb[ky], _mm_mul_ps(q->sy4, bb[kz]));
+  __m128 cx = _mm_sub_ps(c[kx], _mm_mul_ps(q->sx4, c[kz])), cy = _mm_sub_ps(c[ky], _mm_mul_ps(q->sy4, c[kz]));
+
+  /* The edge functions, then the lanes the test rejects: none zero, signs mixed. */
+  __m128 u = _mm_sub_ps(_mm_mul_ps(cx, by), _mm_mul_ps(cy, bx));
+  __m128 v = _mm_sub_ps(_mm_mul_ps(ax, cy), _mm_mul_ps(ay, cx));
+  __m128 w = _mm_sub_ps(_mm_mul_ps(bx, ay), _mm_mul_ps(by, ax));
+  __m128 zero = _mm_setzero_ps();
+  __m128 any_zero = _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(u, zero), _mm_cmpeq_ps(v, zero)), _mm_cmpeq_ps(w, zero));
+  __m128 any_neg = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(u, zero), _mm_cmplt_ps(v, zero)), _mm_cmplt_ps(w, zero));
+  __m128 any_pos = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(u, zero), _mm_cmpgt_ps(v, zero)), _mm_cmpgt_ps(w, zero));
+  __m128 rejected = _mm_andnot_ps(any_zero, _mm_and_ps(any_neg, any_pos));
+  return ~_mm_movemask_ps(rejected) & 15;
+}
+
+/* The one-triangle test of the ray's kind on triangle t. */
+LT_BVH8_TARGET static inline void lt_bvh8_triangle(const lt_ray_setup *r, const lt_tri *t, lt_hit_record *hit) {
+  float v0[3] = {t->v0.x, t->v0.y, t->v0.z}, v1[3] = {t->v1.x, t->v1.y, t->v1.z}, v2[3] = {t->v2.x, t->v2.y, t->v2.z};
+  lt_intersect_triangle(r, v0, v1, v2, lt_float_as_int(t->v0.w), hit);
+}
+
 /* Traces one ray prepared with lt_ray_prepare (its flags set) through a finished 8-wide tree
  * whose leaves are triangles in leaf order; writes the hit (prim -1 on a miss) and returns 0,
  * or -1 when the stack would overflow (never on a tree of LT_BVH_MAX_DEPTH levels).
- * `vector` 0 takes the plain box test (the tests compare both). */
-LT_BVH8_TARGET static inline int lt_bvh8_traverse_with(const lt_bvh8_node *nodes, const lt_tri *tris,
-                                                       const lt_ray_setup *r, lt_hit_record *out, lt_trace_counters *c,
-                                                       int vector) {
+ * `vector` 0 takes the plain box test and tests every triangle one by one (the tests compare
+ * both). */
+LT_BVH8_TARGET static inline int lt_bvh8_traverse_with(const lt_bvh8_node *nodes, const lt_tri4 *blocks,
+                                                       const lt_tri *tris, const lt_ray_setup *r, lt_hit_record *out,
+                                                       lt_trace_counters *c, int vector) {
   lt_hit_record hit;
   hit.t = r->tmax, hit.u = hit.v = 0.0f, hit.prim = -1;
   int any_hit = r->flags & LT_QUERY_FLAG_ANY, status = 0;
@@ -156,13 +206,20 @@ LT_BVH8_TARGET static inline int lt_bvh8_traverse_with(const lt_bvh8_node *nodes
         continue;
       }
     } else {
-      /* A leaf: its triangles in leaf order. */
-      for (lt_i32 k = first; k < first + count; k++) {
-        const lt_tri *tri = &tris[k];
-        float v0[3] = {tri->v0.x, tri->v0.y, tri->v0.z}, v1[3] = {tri->v1.x, tri->v1.y, tri->v1.z};
-        float v2[3] = {tri->v2.x, tri->v2.y, tri->v2.z};
-        c->intersections++;
-        lt_intersect_triangle(r, v0, v1, v2, lt_float_as_int(tri->v0.w), &hit);
+      /* A leaf: a small one triangle by triangle, a big one four at a time through the filter. */
+      c->intersections += (lt_u32)count;
+      const lt_tri *t = &tris[first];
+      if (count < LT_BVH8_FILTER_MIN || !vector || !q.filter) {
+        for (lt_i32 k = 0; k < count; k++) lt_bvh8_triangle(r, &t[k], &hit);
+      } else {
+        const lt_tri4 *b = &blocks[first >> 2];
+        for (lt_i32 left = count; left > 0; left -= 4, b++, t += 4) {
+          int lanes = (left < 4 ? (1 << left) - 1 : 15) & lt_bvh8_tri4_candidates(r, &q, b);
+          while (lanes) {
+            lt_bvh8_triangle(r, &t[__builtin_ctz((unsigned)lanes)], &hit);
+            lanes &= lanes - 1;
+          }
+        }
       }
       if (any_hit && hit.prim >= 0) break;
     }

@@ -6,11 +6,14 @@
 #include "builders/host/bvh_sah.h"
 #include "device/bvh8_node.h"
 
-/* The nodes of an 8-wide tree; its leaves point into the binary BVH's triangles (lt__bvh.tris),
- * as the QBVH's do. */
+/* The nodes of an 8-wide tree, and its own copy of the binary BVH's triangles in leaf order,
+ * every leaf starting at a multiple of four, also as blocks of four (device/bvh8_node.h). */
 typedef struct lt__bvh8 {
   lt_bvh8_node *nodes; /* node 0 holds the root's children; 64-byte aligned */
   int node_count;
+  lt_tri *tris;    /* tri_slots triangles, padding after each leaf to a multiple of four */
+  lt_tri4 *blocks; /* tri_slots / 4 blocks: block i is triangles 4i to 4i + 3 */
+  int tri_slots;
   int leaf_count;
   int max_depth; /* nodes on the longest path from node 0 to a leaf's node */
 } lt__bvh8;
