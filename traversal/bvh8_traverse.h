@@ -186,7 +186,20 @@ LT_BVH8_TARGET static inline int lt_bvh8_traverse_with(const lt_bvh8_node *nodes
           continue;
         }
 
-        /* Several: all on the stack, sorted far to near (insertion sort, at most eight). */
+        /* Two: the nearer on, the farther on the stack. */
+        if (!(mask & (mask - 1))) {
+          if (sp == LT_BVH8_STACK_SIZE) {
+            status = -1;
+            break;
+          }
+          int other = __builtin_ctz((unsigned)mask);
+          int near = t[other] < t[lane] ? other : lane, far = near == lane ? other : lane;
+          stack[sp].first = n->first[far], stack[sp].count = n->count[far], stack[sp].t = t[far], sp++;
+          first = n->first[near], count = n->count[near];
+          continue;
+        }
+
+        /* More: all on the stack, sorted far to near (insertion sort, at most eight). */
         if (sp + LT_BVH8_WIDTH > LT_BVH8_STACK_SIZE) {
           status = -1;
           break;
