@@ -38,9 +38,14 @@ static lt_structure *make(lt_context *ctx, const lt_scene *scene, int m) {
     if (lt__bvh_build_sah(lt_scene_triangles(scene), lt_scene_triangle_count(scene), &sah, &bvh)) return NULL;
     if (lt__structure_from_bvh(ctx, scene, &bvh, &s)) return lt__bvh_free(&bvh), NULL;
   } else {
+    /* The paper's 4-wide layout on both backends (natively, AVX2 would take the 8-wide path,
+     * which benchmarks/bench_wide_simd.c measures). */
     lt_structure_config c = lt_structure_config_default(m == QBVH ? LT_STRUCTURE_QBVH : LT_STRUCTURE_BVH);
     c.build = LT_BUILD_FULL;
-    if (lt_structure_create(ctx, scene, &c, NULL, &s)) return fprintf(stderr, "%s\n", lt_last_error()), NULL;
+    setenv("LT_QBVH_WIDTH", "4", 1);
+    lt_status status = lt_structure_create(ctx, scene, &c, NULL, &s);
+    unsetenv("LT_QBVH_WIDTH");
+    if (status) return fprintf(stderr, "%s\n", lt_last_error()), NULL;
   }
   return s;
 }

@@ -32,6 +32,9 @@ void lt__native_irgrid_merge_kernel(void *arg);
 void lt__native_irgrid_trace_kernel(void *arg);
 /* kernels/native_qbvh_trace.c: arg is an lt__native_trace_launch over an lt_qbvh_trace_view. */
 void lt__native_qbvh_trace_kernel(void *arg);
+/* kernels/native_bvh8_trace.c (x86 with AVX2 only): arg is an lt__native_trace_launch over an
+ * lt_bvh8_trace_view. */
+void lt__native_bvh8_trace_kernel(void *arg);
 /* kernels/native_escape_bvh_trace.c: arg is an lt__native_trace_launch over an lt_escape_bvh_trace_view. */
 void lt__native_escape_bvh_trace_kernel(void *arg);
 

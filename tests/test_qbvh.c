@@ -1,8 +1,10 @@
 /* The QBVH (device/qbvh_node.h): the paper's stack entries, the collapse's tree (every triangle
  * once, exact boxes, siblings together, the depth), the vector box test against the plain C
  * one, and closest and any hits against the brute-force reference on both backends, on the
- * generators and on closed meshes that must not leak. LT_TEST_QUICK (the sanitizers) runs the
- * small scenes only. */
+ * generators and on closed meshes that must not leak. On a CPU with AVX2 the native backend
+ * traces the 8-wide tree (tests/test_qbvh8.c); here the native checks run both on that default
+ * and with the 4-wide path forced (LT_QBVH_WIDTH=4), the fallback of CPUs without AVX2.
+ * LT_TEST_QUICK (the sanitizers) runs the small scenes only. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -256,7 +258,28 @@ static void qbvh_vector_and_plain_box_tests_agree(void **state) {
 
 /* ---- Against the reference, through the library, on both backends ---- */
 
-/* Closest hits bitwise and occlusion against the reference on every backend; returns the hits. */
+/* Closest-hit and occlusion mismatches against the reference on the native backend with the
+ * 4-wide path forced, as on a CPU without AVX2. */
+static size_t native_fallback_mismatches(const char *what, const lt_scene *scene, const lt_structure_config *sc,
+                                         const lt_ray *rays, size_t n, const lt_hit *ref, const lt_hit *ref_any) {
+  lt_test_launch native = {LT_DEVICE_NATIVE, 0, 0};
+  char label[160];
+  snprintf(label, sizeof label, "%s on native, 4 wide", what);
+  size_t mismatches = 0;
+  setenv("LT_QBVH_WIDTH", "4", 1);
+  for (int query = LT_QUERY_CLOSEST; query <= LT_QUERY_ANY; query++) {
+    lt_hit *hits = lt_test_trace_with(scene, &native, sc, rays, n, query, NULL);
+    assert_non_null(hits);
+    mismatches += query == LT_QUERY_CLOSEST ? lt_test_count_mismatches(label, hits, ref, n)
+                                            : lt_test_count_occlusion_mismatches(hits, ref_any, n);
+    free(hits);
+  }
+  unsetenv("LT_QBVH_WIDTH");
+  return mismatches;
+}
+
+/* Closest hits bitwise and occlusion against the reference on every backend and both native
+ * widths; returns the hits. */
 static size_t check_scene(const char *what, const lt_scene *scene, const lt_ray *rays, size_t n) {
   lt_hit *ref = malloc(n * sizeof *ref), *ref_any = malloc(n * sizeof *ref_any);
   assert_non_null(ref);
@@ -265,6 +288,7 @@ static size_t check_scene(const char *what, const lt_scene *scene, const lt_ray 
   assert_int_equal(lt_reference_trace(scene, rays, n, LT_QUERY_ANY, ref_any), LT_OK);
   lt_structure_config sc = lt_structure_config_default(LT_STRUCTURE_QBVH);
   assert_int_equal(lt_test_backend_mismatches(what, scene, &sc, rays, n, ref, ref_any), 0);
+  assert_int_equal(native_fallback_mismatches(what, scene, &sc, rays, n, ref, ref_any), 0);
   size_t hit = 0;
   for (size_t i = 0; i < n; i++) hit += ref[i].prim >= 0;
   free(ref), free(ref_any);
@@ -308,10 +332,15 @@ static void qbvh_closed_meshes_never_leak(void **state) {
     check_scene(names[m], meshes[m].scene, rays, count);
     lt_test_launch l = {LT_DEVICE_NATIVE, 0, 0};
     lt_structure_config sc = lt_structure_config_default(LT_STRUCTURE_QBVH);
-    lt_hit *hits = lt_test_trace_with(meshes[m].scene, &l, &sc, rays, count, LT_QUERY_CLOSEST, NULL);
-    assert_non_null(hits);
-    assert_int_equal(lt_hc_count_misses(hits, count), 0);
-    free(hits);
+    for (int forced = 0; forced < 2; forced++) {
+      /* The default native path (8 wide with AVX2), then the 4-wide fallback. */
+      if (forced) setenv("LT_QBVH_WIDTH", "4", 1);
+      lt_hit *hits = lt_test_trace_with(meshes[m].scene, &l, &sc, rays, count, LT_QUERY_CLOSEST, NULL);
+      unsetenv("LT_QBVH_WIDTH");
+      assert_non_null(hits);
+      assert_int_equal(lt_hc_count_misses(hits, count), 0);
+      free(hits);
+    }
     lt_hc_free(&meshes[m]);
   }
   free(rays);
@@ -341,7 +370,8 @@ static void qbvh_refuses_trees_beyond_its_stack_entries(void **state) {
   lt_scene_destroy(scene);
 }
 
-/* The statistics say what the arrays hold: 128 bytes a node, 48 a triangle, the depth. */
+/* The statistics say what the arrays hold: 128 bytes a node, 48 a triangle, the depth (the
+ * 4-wide path; tests/test_qbvh8.c checks the 8-wide one's). */
 static void qbvh_statistics_describe_the_arrays(void **state) {
   (void)state;
   lt_scene *scene;
@@ -352,7 +382,9 @@ static void qbvh_statistics_describe_the_arrays(void **state) {
   lt_ray rays[64];
   lt_test_random_rays(scene, 3, 64, rays);
   lt_test_launch native = {LT_DEVICE_NATIVE, 0, 0};
+  setenv("LT_QBVH_WIDTH", "4", 1);
   lt_hit *hits = lt_test_trace_with(scene, &native, &sc, rays, 64, LT_QUERY_CLOSEST, stats);
+  unsetenv("LT_QBVH_WIDTH");
   assert_non_null(hits);
   free(hits);
 

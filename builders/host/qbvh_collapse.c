@@ -6,40 +6,33 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* A binary child: its box and link (device/bvh_node.h). */
-typedef struct child {
-  lt_box box;
-  int link, count;
-} child;
-
 typedef struct collapser {
   const lt__bvh *bvh;
   lt__qbvh *out; /* NULL while counting */
   int next;      /* nodes handed out */
 } collapser;
 
-static child binary_child(const lt_bvh_node *n, int side) {
-  child c;
+static lt__bvh_child binary_child(const lt_bvh_node *n, int side) {
+  lt__bvh_child c;
   lt_bvh_child_box(n, side, c.box.lo, c.box.hi);
   c.link = n->link[side], c.count = n->link[2 + side];
   return c;
 }
 
-static int is_inner(const child *c) { return c->count == 0 && c->link >= 0; }
+int lt__bvh_child_is_inner(const lt__bvh_child *c) { return c->count == 0 && c->link >= 0; }
 
-/* The children of binary inner node `link`, opened until there are four or only leaves. */
-static int gather(const lt__bvh *bvh, int link, child kids[4]) {
+int lt__bvh_open_children(const lt__bvh *bvh, int link, int width, lt__bvh_child *kids) {
   int n = 0;
   for (int side = 0; side < 2; side++) {
-    child c = binary_child(&bvh->nodes[link], side);
+    lt__bvh_child c = binary_child(&bvh->nodes[link], side);
     if (c.count > 0 || c.link >= 0) kids[n++] = c;
   }
-  while (n < 4) {
+  while (n < width) {
     /* The inner child of largest area is the likeliest to be entered: open it. */
     int open = -1;
     float best = -1.0f;
     for (int i = 0; i < n; i++)
-      if (is_inner(&kids[i]) && lt_box_area(&kids[i].box) > best) best = lt_box_area(&kids[i].box), open = i;
+      if (lt__bvh_child_is_inner(&kids[i]) && lt_box_area(&kids[i].box) > best) best = lt_box_area(&kids[i].box), open = i;
     if (open < 0) break;
     const lt_bvh_node *node = &bvh->nodes[kids[open].link];
     kids[open] = binary_child(node, 0);
@@ -51,8 +44,8 @@ static int gather(const lt__bvh *bvh, int link, child kids[4]) {
 /* Makes the node holding the children of binary inner node `link` at `depth` (node 0 is at
  * depth 1), then its inner children's nodes; returns its index and puts its children. */
 static int collapse(collapser *c, int link, int depth, int *children) {
-  child kids[4];
-  int n = gather(c->bvh, link, kids);
+  lt__bvh_child kids[4];
+  int n = lt__bvh_open_children(c->bvh, link, 4, kids);
   *children = n;
   int at = c->next++;
   if (c->out && depth > c->out->max_depth) c->out->max_depth = depth;
@@ -62,7 +55,7 @@ static int collapse(collapser *c, int link, int depth, int *children) {
       if (c->out) lt_qbvh_write_child(&c->out->nodes[at], lane, &empty, -1, 0);
       continue;
     }
-    if (!is_inner(&kids[lane])) {
+    if (!lt__bvh_child_is_inner(&kids[lane])) {
       if (c->out) lt_qbvh_write_child(&c->out->nodes[at], lane, &kids[lane].box, kids[lane].link, kids[lane].count);
       if (c->out) c->out->leaf_count++;
       continue;

@@ -15,6 +15,20 @@ typedef struct lt__qbvh {
   int max_depth; /* nodes on the longest path from node 0 to a leaf's node: the stack bound */
 } lt__qbvh;
 
+/* A child of a binary inner node as the collapses see it: its box and its link (count > 0 a
+ * leaf of count triangles from link, count 0 and link >= 0 an inner node, else empty). */
+typedef struct lt__bvh_child {
+  lt_box box;
+  int link, count;
+} lt__bvh_child;
+
+int lt__bvh_child_is_inner(const lt__bvh_child *c);
+/* The children of binary inner node `link`, opened while there are fewer than `width`: each
+ * time the inner child of largest surface area gives way to its two children. Returns how
+ * many there are (2 to width, fewer when all are leaves or empty links are dropped). Shared
+ * by the 4-wide collapse and the 8-wide one (builders/host/bvh8_collapse.c). */
+int lt__bvh_open_children(const lt__bvh *bvh, int link, int width, lt__bvh_child *kids);
+
 /* Collapses a finished binary BVH (lt__bvh_build_sah, lt__bvh_build_lbvh): each node takes a
  * binary node's two children and opens the inner one of largest surface area while it has
  * fewer than four. LT_ERROR_UNSUPPORTED when the tree needs more than max_nodes nodes (at most

@@ -1,0 +1,27 @@
+/* The binary SAH BVH collapsed into an 8-wide tree (device/bvh8_node.h) for the QBVH's native
+ * AVX2 path: Dammertz, Hanika and Keller 2008 at width 8. Host-only C. */
+#ifndef LT_BVH8_COLLAPSE_H
+#define LT_BVH8_COLLAPSE_H
+
+#include "builders/host/bvh_sah.h"
+#include "device/bvh8_node.h"
+
+/* The nodes of an 8-wide tree, and its own copy of the binary BVH's triangles in leaf order,
+ * every leaf starting at a multiple of four, also as blocks of four (device/bvh8_node.h). */
+typedef struct lt__bvh8 {
+  lt_bvh8_node *nodes; /* node 0 holds the root's children; 64-byte aligned */
+  int node_count;
+  lt_tri *tris;    /* tri_slots triangles, padding after each leaf to a multiple of four */
+  lt_tri4 *blocks; /* tri_slots / 4 blocks: block i is triangles 4i to 4i + 3 */
+  int tri_slots;
+  int leaf_count;
+  int max_depth; /* nodes on the longest path from node 0 to a leaf's node */
+} lt__bvh8;
+
+/* Collapses a finished binary BVH: each node takes a binary node's two children and opens the
+ * inner one of largest surface area while it has fewer than eight. Every box is the binary
+ * tree's, bit for bit. LT_ERROR_OUT_OF_MEMORY on allocation. */
+lt_status lt__bvh8_collapse(const lt__bvh *bvh, lt__bvh8 *out);
+void lt__bvh8_free(lt__bvh8 *bvh8);
+
+#endif

@@ -1,0 +1,69 @@
+/* The 8-wide node of the QBVH's native path: the binary SAH BVH collapsed into an 8-ary tree
+ * (Dammertz, Hanika and Keller 2008, at the width of an AVX2 register, as Embree's BVH8),
+ * traced eight boxes at a time by traversal/bvh8_traverse.h where the CPU has AVX2. The
+ * OpenCL backend and CPUs without AVX2 keep the 4-wide QBVH (device/qbvh_node.h).
+ *
+ * A node is the group of up to eight siblings: their boxes in SoA form (one 32-byte row per
+ * plane, lane i is child i) and each child's link, told by its count as in the QBVH:
+ *
+ *   inner   count < 0: its own children are the first -count lanes of node `first`
+ *   leaf    count > 0: `count` triangles (lt_tri) from position `first`, a multiple of 4
+ *   empty   count == 0: an unused lane
+ *
+ * The tree has its own copy of the triangles in leaf order, each leaf starting at a multiple
+ * of four (the lanes up to the next one are padding, never tested), and beside it the same
+ * triangles in blocks of four in SoA form (lt_tri4, as Embree's Triangle4): block i holds
+ * triangles 4i to 4i + 3. Leaves of at least LT_BVH8_FILTER_MIN triangles compute the
+ * watertight test's edge functions of a block's four triangles in one vector pass and drop the
+ * ones the ray passes outside of; smaller ones, and the survivors, take the one-triangle test.
+ *
+ * Node 0 holds the root's children. The traversal's stack holds children (first, count and
+ * entry distance), not nodes, so no bits of an index are given up and the node count is
+ * bounded by int only. */
+#ifndef LT_DEVICE_BVH8_NODE_H
+#define LT_DEVICE_BVH8_NODE_H
+
+#include "device/box.h"
+#include "device/types.h"
+
+#define LT_BVH8_WIDTH 8
+
+typedef struct lt_bvh8_node {
+  float lo_x[8];   /* 32 bytes: the eight children's box lower x */
+  float hi_x[8];   /* 32 bytes: upper x */
+  float lo_y[8];   /* 32 bytes: lower y */
+  float hi_y[8];   /* 32 bytes: upper y */
+  float lo_z[8];   /* 32 bytes: lower z */
+  float hi_z[8];   /* 32 bytes: upper z */
+  lt_i32 first[8]; /* 32 bytes: per child, a node index (inner) or a triangle position (leaf) */
+  lt_i32 count[8]; /* 32 bytes: per child, -children (inner), triangles (leaf), 0 (empty) */
+} lt_bvh8_node;
+
+/* Four triangles of a leaf, SoA: v[3 * j + k] is coordinate k of vertex j, lane i triangle i. */
+typedef struct lt_tri4 {
+  float v[9][4]; /* 144 bytes: v0.x v0.y v0.z v1.x v1.y v1.z v2.x v2.y v2.z, four lanes each */
+} lt_tri4;
+
+/* The smallest leaf whose triangles are filtered four at a time (measured: see
+ * docs/notes/qbvh.md, "The native 8-wide path"). */
+#define LT_BVH8_FILTER_MIN 4
+
+#ifndef __OPENCL_VERSION__
+_Static_assert(sizeof(lt_tri4) == 144, "lt_tri4 is 144 bytes");
+_Static_assert(sizeof(lt_bvh8_node) == 256, "lt_bvh8_node is four 64-byte lines");
+#endif
+
+/* Writes lane `lane` of a node that no traversal reads yet (the host's collapse). */
+LT_DEVICE void lt_bvh8_write_child(lt_bvh8_node *n, int lane, const lt_box *b, lt_i32 first, lt_i32 count) {
+  float *f = (float *)n;
+  for (int k = 0; k < 3; k++) f[16 * k + lane] = b->lo[k], f[16 * k + 8 + lane] = b->hi[k];
+  n->first[lane] = first, n->count[lane] = count;
+}
+
+/* Lane `lane`'s box as two corners. */
+LT_DEVICE void lt_bvh8_child_box(const lt_bvh8_node *n, int lane, float lo[3], float hi[3]) {
+  const float *f = (const float *)n;
+  for (int k = 0; k < 3; k++) lo[k] = f[16 * k + lane], hi[k] = f[16 * k + 8 + lane];
+}
+
+#endif

@@ -1,0 +1,334 @@
+/* The QBVH's native 8-wide path (device/bvh8_node.h, traversal/bvh8_traverse.h): the
+ * collapse's tree (every triangle once, padded leaves and their blocks, exact boxes, siblings
+ * together, the depth), the AVX2 box test against the plain per-lane one, the big leaves'
+ * four-triangle filter against testing every triangle, whole traversals against the 4-wide QBVH's hits bit
+ * for bit, and which path the library takes (AVX2 or LT_QBVH_WIDTH=4). Hits against the
+ * brute-force reference through the library, on every generator and the closed meshes, are
+ * tests/test_qbvh.c's (the native default is this path). Tests that need AVX2 skip without it. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#if !defined(__x86_64__)
+/* The 8-wide path is the x86 native backend's: elsewhere there is nothing to test. */
+int main(void) { return 0; }
+#else
+
+#include "builders/host/bvh8_collapse.h"
+#include "builders/host/qbvh_collapse.h"
+#include "tests/hard_cases.h"
+#include "tests/support.h"
+#include "traversal/bvh8_traverse.h"
+#include "traversal/qbvh_traverse.h"
+
+/* ---- The collapsed tree ---- */
+
+typedef struct walk {
+  const lt__bvh8 *w8;
+  const lt__bvh *bvh;
+  char *seen_tri, *seen_node;
+  int leaves, max_depth;
+} walk;
+
+/* Walks node `at` at `depth`; returns the bounds of its children. */
+static lt_box walk_node(walk *w, int at, int depth) {
+  assert_true(at >= 0 && at < w->w8->node_count);
+  assert_false(w->seen_node[at]);
+  w->seen_node[at] = 1;
+  if (depth > w->max_depth) w->max_depth = depth;
+  const lt_bvh8_node *n = &w->w8->nodes[at];
+  lt_box all = lt_box_empty();
+  int lanes = 0;
+  for (int lane = 0; lane < LT_BVH8_WIDTH; lane++) {
+    lt_box stored, exact = lt_box_empty();
+    lt_bvh8_child_box(n, lane, stored.lo, stored.hi);
+    int first = n->first[lane], count = n->count[lane];
+    if (count == 0) {
+      assert_memory_equal(&stored, &exact, sizeof stored); /* an empty lane has an empty box */
+      continue;
+    }
+    assert_int_equal(lane, lanes); /* siblings are the first lanes, together */
+    lanes++;
+    if (count > 0) {
+      /* A leaf: from a multiple of four in the tree's own triangles, each scene triangle seen
+       * once, its block lanes the same vertices; its box the triangles' exact bounds. */
+      assert_true(first >= 0 && first % 4 == 0 && first + count <= w->w8->tri_slots);
+      for (int i = first; i < first + count; i++) {
+        const lt_tri *t = &w->w8->tris[i];
+        int prim = lt_float_as_int(t->v0.w);
+        assert_true(prim >= 0 && prim < w->bvh->tri_count);
+        assert_false(w->seen_tri[prim]);
+        w->seen_tri[prim] = 1;
+        const lt_float4 *v[3] = {&t->v0, &t->v1, &t->v2};
+        for (int c = 0; c < 3; c++) {
+          const float xyz[3] = {v[c]->x, v[c]->y, v[c]->z};
+          for (int k = 0; k < 3; k++)
+            assert_memory_equal(&w->w8->blocks[i / 4].v[3 * c + k][i % 4], &xyz[k], sizeof(float));
+          lt_box p = {{v[c]->x, v[c]->y, v[c]->z}, {v[c]->x, v[c]->y, v[c]->z}};
+          lt_box_grow(&exact, &p);
+        }
+      }
+      w->leaves++;
+    } else {
+      /* An inner child: its children's node uses as many lanes as its count says. */
+      assert_true(count >= -LT_BVH8_WIDTH && count <= -2);
+      int used = 0;
+      for (int l = 0; l < LT_BVH8_WIDTH; l++) used += w->w8->nodes[first].count[l] != 0;
+      assert_int_equal(used, -count);
+      exact = walk_node(w, first, depth + 1);
+    }
+    assert_memory_equal(&stored, &exact, sizeof stored);
+    lt_box_grow(&all, &exact);
+  }
+  assert_true(lanes >= 1);
+  return all;
+}
+
+static void build_with(const lt_scene *scene, float traversal_cost, lt__bvh *bvh, lt__bvh8 *w8) {
+  lt__sah_config sah = lt__sah_config_default();
+  sah.traversal_cost = traversal_cost;
+  assert_int_equal(lt__bvh_build_sah(lt_scene_triangles(scene), lt_scene_triangle_count(scene), &sah, bvh), LT_OK);
+  assert_int_equal(lt__bvh8_collapse(bvh, w8), LT_OK);
+  walk w = {w8, bvh, calloc((size_t)bvh->tri_count, 1), calloc((size_t)w8->node_count, 1), 0, 0};
+  assert_non_null(w.seen_tri);
+  assert_non_null(w.seen_node);
+  walk_node(&w, 0, 1);
+  for (int i = 0; i < bvh->tri_count; i++) assert_true(w.seen_tri[i]);
+  for (int i = 0; i < w8->node_count; i++) assert_true(w.seen_node[i]);
+  assert_int_equal(w.leaves, bvh->leaf_count);
+  assert_int_equal(w.leaves, w8->leaf_count);
+  assert_int_equal(w.max_depth, w8->max_depth);
+  assert_true(w8->max_depth <= (bvh->max_depth > 0 ? bvh->max_depth : 1));
+  free(w.seen_tri), free(w.seen_node);
+}
+
+static void build(const lt_scene *scene, lt__bvh *bvh, lt__bvh8 *w8) { build_with(scene, 1.0f, bvh, w8); }
+
+/* Triangles in leaves the filter takes (at least LT_BVH8_FILTER_MIN). */
+static int filtered_triangles(const lt__bvh8 *w8) {
+  int n = 0;
+  for (int i = 0; i < w8->node_count; i++)
+    for (int lane = 0; lane < LT_BVH8_WIDTH; lane++)
+      if (w8->nodes[i].count[lane] >= LT_BVH8_FILTER_MIN) n += w8->nodes[i].count[lane];
+  return n;
+}
+
+/* The tree of every kind of generator: exact, complete, shallower than the 4-wide one. */
+static void qbvh8_collapse_keeps_every_triangle_and_exact_boxes(void **state) {
+  (void)state;
+  static const char *const specs[] = {"sphere:3", "cornell", "hairball:300", "house"};
+  for (size_t s = 0; s < sizeof specs / sizeof specs[0]; s++) {
+    lt_scene *scene;
+    assert_int_equal(lt_scene_load(specs[s], &scene), LT_OK);
+    lt__bvh bvh;
+    lt__bvh8 w8;
+    build(scene, &bvh, &w8);
+    lt__qbvh q;
+    assert_int_equal(lt__qbvh_collapse(&bvh, LT_QBVH_MAX_NODES, &q), LT_OK);
+    assert_true(w8.max_depth <= q.max_depth);
+    assert_true(w8.node_count <= q.node_count);
+    fprintf(stderr, "%s: QBVH %d nodes depth %d (%zu bytes), 8 wide %d nodes depth %d (%zu bytes)\n", specs[s],
+            q.node_count, q.max_depth, (size_t)q.node_count * sizeof(lt_qbvh_node), w8.node_count, w8.max_depth,
+            (size_t)w8.node_count * sizeof(lt_bvh8_node));
+    lt__qbvh_free(&q);
+    lt__bvh8_free(&w8);
+    lt__bvh_free(&bvh);
+    lt_scene_destroy(scene);
+  }
+}
+
+/* ---- The AVX2 test, the plain one and the 4-wide traversal ---- */
+
+/* Traces on the host through the 8-wide tree (vector or plain boxes) or the 4-wide one. */
+enum { WIDE_VECTOR, WIDE_PLAIN, QBVH4 };
+static void trace_host(int how, const lt__bvh8 *w8, const lt__qbvh *q, const lt__bvh *bvh, const lt_ray *rays, size_t n,
+                       int flags, lt_hit *hits, lt_trace_counters *c) {
+  for (size_t i = 0; i < n; i++) {
+    const lt_ray *ray = &rays[i];
+    lt_ray_setup r = lt_ray_prepare(ray->org[0], ray->org[1], ray->org[2], ray->tmin, ray->dir[0], ray->dir[1],
+                                    ray->dir[2], ray->tmax);
+    r.flags = flags;
+    lt_hit_record hit;
+    lt_i32 deepest = 0;
+    int status = how == QBVH4 ? lt_qbvh_traverse(q->nodes, bvh->tris, &r, &hit, c, &deepest)
+                              : lt_bvh8_traverse_with(w8->nodes, w8->blocks, w8->tris, &r, &hit, c, how == WIDE_VECTOR);
+    assert_int_equal(status, 0);
+    if (hit.prim < 0) hit.t = INFINITY, hit.u = hit.v = 0.0f;
+    hits[i] = (lt_hit){hit.t, hit.u, hit.v, hit.prim};
+  }
+}
+
+/* Rays with +0 and -0 components, axis-aligned and diagonal, from inside a cube of shared
+ * edges (aimed at its vertices and edges), and random ones: both box tests give every node the
+ * same mask and entry distances; the 8-wide traversal with vector boxes and the big leaves'
+ * four-triangle filter gives the same hits and counters as with plain boxes and every
+ * triangle tested alone, and the same hits as the QBVH, for closest and any hit, watertight
+ * and fast triangles, with and without the conservative widening. The trees are built with a
+ * high node cost, so that leaves of up to 16 triangles make the filter run. */
+static void qbvh8_vector_and_plain_box_tests_agree(void **state) {
+  (void)state;
+  if (!lt_bvh8_supported()) skip();
+  lt_hc_mesh cube = lt_hc_cube(8, 9);
+  lt_scene *hair;
+  assert_int_equal(lt_scene_load("hairball:300", &hair), LT_OK);
+  const lt_scene *scenes[2] = {cube.scene, hair};
+  enum { N = 4096 };
+  lt_ray *rays = malloc(N * sizeof *rays);
+  lt_hit *a = malloc(N * sizeof *a), *b = malloc(N * sizeof *b), *q4 = malloc(N * sizeof *q4);
+  assert_non_null(rays);
+  for (int s = 0; s < 2; s++) {
+    /* In the cube, rays at its vertices and edges from inside; in the hairball, random ones. */
+    if (s == 0)
+      assert_int_equal(lt_hc_closed_rays(&cube, 11, N, rays), N);
+    else
+      lt_test_random_rays(scenes[s], 11 + (uint64_t)s, N, rays);
+    /* A quarter of the rays along axes and diagonals, zero components signed both ways. */
+    for (size_t i = 0; i < N / 4; i++) {
+      int d = (int)(i % 26), code = d < 13 ? d : d + 1;
+      for (int k = 0; k < 3; k++) {
+        int comp = (code / (k == 0 ? 1 : k == 1 ? 3 : 9)) % 3 - 1;
+        rays[i].dir[k] = comp ? (float)comp : ((i / 26) & (1u << k) ? -0.0f : 0.0f);
+      }
+    }
+    lt__bvh bvh;
+    lt__bvh8 w8;
+    build_with(scenes[s], 8.0f, &bvh, &w8);
+    lt__qbvh q;
+    assert_int_equal(lt__qbvh_collapse(&bvh, LT_QBVH_MAX_NODES, &q), LT_OK);
+    assert_true(filtered_triangles(&w8) > bvh.tri_count / 2);
+
+    /* Node by node. */
+    size_t lanes_hit = 0;
+    for (size_t i = 0; i < N; i += 7) {
+      lt_ray_setup r = lt_ray_prepare(rays[i].org[0], rays[i].org[1], rays[i].org[2], rays[i].tmin, rays[i].dir[0],
+                                      rays[i].dir[1], rays[i].dir[2], rays[i].tmax);
+      r.flags = (i % 5 == 0) ? LT_QUERY_FLAG_PLAIN_SLABS : 0;
+      lt_bvh8_ray r8 = lt_bvh8_ray_make(&r);
+      for (int node = 0; node < w8.node_count; node++) {
+        float tv[8], tp[8], tmax = (i % 3 == 0) ? 0.5f : INFINITY;
+        int mv = lt_bvh8_box8(&r, &r8, &w8.nodes[node], tmax, tv);
+        int mp = lt_bvh8_box8_scalar(&r, &w8.nodes[node], tmax, tp) & lt_bvh8_child_lanes(&w8.nodes[node]);
+        assert_int_equal(mv, mp);
+        for (int lane = 0; lane < LT_BVH8_WIDTH; lane++)
+          if (mv >> lane & 1) assert_memory_equal(&tv[lane], &tp[lane], sizeof(float)), lanes_hit++;
+      }
+    }
+    assert_true(lanes_hit > 0);
+
+    /* Whole traversals. */
+    const int flag_sets[] = {0, LT_QUERY_FLAG_ANY, LT_QUERY_FLAG_FAST_TRIANGLES, LT_QUERY_FLAG_PLAIN_SLABS};
+    for (int f = 0; f < 4; f++) {
+      lt_trace_counters cv = {0, 0}, cp = {0, 0}, c4 = {0, 0};
+      trace_host(WIDE_VECTOR, &w8, &q, &bvh, rays, N, flag_sets[f], a, &cv);
+      trace_host(WIDE_PLAIN, &w8, &q, &bvh, rays, N, flag_sets[f], b, &cp);
+      trace_host(QBVH4, &w8, &q, &bvh, rays, N, flag_sets[f], q4, &c4);
+      assert_memory_equal(a, b, N * sizeof *a);
+      assert_int_equal(cv.traversal_steps, cp.traversal_steps);
+      assert_int_equal(cv.intersections, cp.intersections);
+      if (flag_sets[f] & LT_QUERY_FLAG_ANY) {
+        /* Any hit: which one may differ, whether there is one may not. */
+        for (size_t i = 0; i < N; i++) assert_int_equal(a[i].prim >= 0, q4[i].prim >= 0);
+      } else {
+        assert_memory_equal(a, q4, N * sizeof *a);
+      }
+    }
+    lt__qbvh_free(&q);
+    lt__bvh8_free(&w8);
+    lt__bvh_free(&bvh);
+  }
+  free(rays), free(a), free(b), free(q4);
+  lt_scene_destroy(hair);
+  lt_hc_free(&cube);
+}
+
+/* A one-triangle scene: node 0 holds one leaf beside seven empty lanes. */
+static void qbvh8_single_triangle(void **state) {
+  (void)state;
+  if (!lt_bvh8_supported()) skip();
+  const float tri[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  lt_scene *scene;
+  assert_int_equal(lt_scene_from_triangles(tri, 1, &scene), LT_OK);
+  lt__bvh bvh;
+  lt__bvh8 w8;
+  build(scene, &bvh, &w8);
+  assert_int_equal(w8.node_count, 1);
+  assert_int_equal(w8.nodes[0].count[0], 1);
+  lt_ray rays[3] = {{{0.25f, 0.25f, -1}, 0, {0, 0, 1}, INFINITY},
+                    {{2, 2, -1}, 0, {0, 0, 1}, INFINITY},
+                    {{0.25f, 0.25f, -1}, 0, {0, 0, 1}, 0.5f}};
+  lt_hit hits[3];
+  lt_trace_counters c = {0, 0};
+  trace_host(WIDE_VECTOR, &w8, NULL, &bvh, rays, 3, 0, hits, &c);
+  assert_int_equal(hits[0].prim, 0);
+  assert_true(hits[0].t == 1.0f);
+  assert_int_equal(hits[1].prim, -1);
+  assert_int_equal(hits[2].prim, -1);
+  lt__bvh8_free(&w8);
+  lt__bvh_free(&bvh);
+  lt_scene_destroy(scene);
+}
+
+/* ---- Which path the library takes ---- */
+
+/* On the native backend with AVX2 the statistics describe the 8-wide tree (256 bytes a node);
+ * with LT_QBVH_WIDTH=4, or without AVX2, the QBVH's (128). Hits are the same either way. */
+static void qbvh8_native_path_follows_the_cpu_and_the_switch(void **state) {
+  (void)state;
+  lt_scene *scene;
+  assert_int_equal(lt_scene_load("hairball:300", &scene), LT_OK);
+  lt_structure_config sc = lt_structure_config_default(LT_STRUCTURE_QBVH);
+  enum { N = 256 };
+  lt_ray rays[N];
+  lt_test_random_rays(scene, 3, N, rays);
+  lt__bvh bvh;
+  lt__bvh8 w8;
+  build(scene, &bvh, &w8);
+  lt__qbvh q;
+  assert_int_equal(lt__qbvh_collapse(&bvh, LT_QBVH_MAX_NODES, &q), LT_OK);
+  lt_hit *hits[2];
+  for (int forced = 0; forced < 2; forced++) {
+    lt_stats *stats;
+    assert_int_equal(lt_stats_create(&stats), LT_OK);
+    if (forced) setenv("LT_QBVH_WIDTH", "4", 1);
+    lt_test_launch native = {LT_DEVICE_NATIVE, 0, 0};
+    hits[forced] = lt_test_trace_with(scene, &native, &sc, rays, N, LT_QUERY_CLOSEST, stats);
+    unsetenv("LT_QBVH_WIDTH");
+    assert_non_null(hits[forced]);
+    int wide = !forced && lt_bvh8_supported();
+    double tris = (double)lt_scene_triangle_count(scene);
+    double node_bytes = wide ? 256.0 * w8.node_count : 128.0 * q.node_count;
+    assert_true(lt_stats_get(stats, "node_bytes") == node_bytes);
+    double ref_bytes = wide ? (48.0 + 36.0) * w8.tri_slots : 48.0 * tris;
+    assert_true(lt_stats_get(stats, "reference_bytes") == ref_bytes);
+    assert_true(lt_stats_get(stats, "memory_bytes") == node_bytes + ref_bytes);
+    assert_true(lt_stats_get(stats, "max_depth") == (wide ? w8.max_depth : q.max_depth));
+    assert_true(lt_stats_get(stats, "nodes_built") ==
+                (wide ? (double)w8.node_count + w8.leaf_count : (double)q.node_count + q.leaf_count));
+    assert_true(lt_stats_get(stats, "traversal_steps") > 0);
+    lt_stats_destroy(stats);
+  }
+  assert_memory_equal(hits[0], hits[1], N * sizeof(lt_hit));
+  free(hits[0]), free(hits[1]);
+  lt__qbvh_free(&q);
+  lt__bvh8_free(&w8);
+  lt__bvh_free(&bvh);
+  lt_scene_destroy(scene);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(qbvh8_collapse_keeps_every_triangle_and_exact_boxes),
+      cmocka_unit_test(qbvh8_vector_and_plain_box_tests_agree),
+      cmocka_unit_test(qbvh8_single_triangle),
+      cmocka_unit_test(qbvh8_native_path_follows_the_cpu_and_the_switch),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
+
+#endif

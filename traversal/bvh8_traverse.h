@@ -1,0 +1,251 @@
+/* The QBVH's native path on CPUs with AVX2: the 8-wide tree of device/bvh8_node.h traced eight
+ * boxes at a time, as Embree traces its BVH8. Native backend only (x86 with GCC or clang): the
+ * functions carry their own target attribute, so the library still builds for baseline x86-64
+ * and lt_bvh8_supported() decides at run time; OpenCL and other CPUs keep the 4-wide QBVH.
+ *
+ * Numerics are the 4-wide test's, lane by lane (traversal/qbvh_box4.h): the same floats in the
+ * same order as lt_ray_slabs and lt_ray_box, no fused multiply-adds (the build turns
+ * contraction off), the far end widened by LT_SLAB_ROUNDING_EPS, the interval met with
+ * [tmin, best]. So a box is culled exactly when the binary BVH culls it, and the triangles are
+ * the scalar watertight (or fast) test itself: hits are bit for bit those of every other
+ * structure. A ray with a zero direction component takes the plain per-lane form.
+ *
+ * Leaves of at least LT_BVH8_FILTER_MIN triangles: the watertight test's edge functions of a
+ * block of four (device/bvh8_node.h, lt_tri4) are computed as one SSE vector each, in the same
+ * operations and order as the one-triangle test computes them, so every lane holds the very
+ * floats that test would get. A lane whose three are non-zero and of mixed signs is one the
+ * test rejects at that point; every other lane (a possible hit, or an edge function of exactly
+ * 0 that the test recomputes in double) goes through the one-triangle test itself. So the
+ * filter drops only triangles the test would drop, and hits stay bit for bit. Smaller leaves,
+ * and Moller-Trumbore (the fast option), test triangle by triangle.
+ *
+ * Traversal: at an inner child the ray meets its children's eight boxes; one entered goes on
+ * at once, several go on the stack with their entry distances sorted so that the nearest is
+ * on top and taken next. Leaves wait on the stack like inner children, so triangles are tested
+ * near to far too. A popped child whose entry distance lies behind the best hit is dropped. */
+#ifndef LT_BVH8_TRAVERSE_H
+#define LT_BVH8_TRAVERSE_H
+
+#if defined(__OPENCL_VERSION__) || !(defined(__x86_64__) || defined(__i386__))
+#error "traversal/bvh8_traverse.h is the native backend's x86 path"
+#endif
+
+#include <immintrin.h>
+
+#include "device/bvh8_node.h"
+#include "traversal/ray_box.h"
+
+#define LT_BVH8_TARGET __attribute__((target("avx2")))
+
+/* A pending child: what its link says, and where the ray enters its box. Each visit pushes at
+ * most seven (the eighth goes on at once) and the tree has at most LT_BVH_MAX_DEPTH (64)
+ * levels, so 7 * 64 entries never overflow; the check stays and reports. */
+#define LT_BVH8_STACK_SIZE 512
+typedef struct lt_bvh8_item {
+  lt_i32 first, count;
+  float t;
+} lt_bvh8_item;
+
+/* Whether this CPU runs the 8-wide path. */
+static inline int lt_bvh8_supported(void) {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2");
+}
+
+/* The ray's origin, reciprocal direction and tmin, one lane per box, made once per ray. */
+typedef struct lt_bvh8_ray {
+  __m256 org[3], inv[3], tmin;
+  __m128 org4[3], sx4, sy4; /* origin and shear, one lane per triangle */
+  int parallel;             /* some direction component is 0 (or -0): the plain form decides */
+  int widen;                /* conservative rounding (all but the accuracy report's plain slabs) */
+  int filter;               /* the watertight test: big leaves are filtered four triangles at a time */
+} lt_bvh8_ray;
+
+LT_BVH8_TARGET static inline lt_bvh8_ray lt_bvh8_ray_make(const lt_ray_setup *r) {
+  lt_bvh8_ray q;
+  for (int k = 0; k < 3; k++) q.org[k] = _mm256_set1_ps(r->org[k]), q.inv[k] = _mm256_set1_ps(r->inv_dir[k]);
+  q.tmin = _mm256_set1_ps(r->tmin);
+  for (int k = 0; k < 3; k++) q.org4[k] = _mm_set1_ps(r->org[k]);
+  q.sx4 = _mm_set1_ps(r->sx), q.sy4 = _mm_set1_ps(r->sy);
+  q.filter = !(r->flags & LT_QUERY_FLAG_FAST_TRIANGLES);
+  q.parallel = r->dir[0] == 0.0f || r->dir[1] == 0.0f || r->dir[2] == 0.0f;
+  q.widen = !(r->flags & LT_QUERY_FLAG_PLAIN_SLABS);
+  return q;
+}
+
+/* One bit per lane that holds a child (count != 0): empty lanes have empty boxes, which the
+ * slab arithmetic does not reject by itself. */
+LT_BVH8_TARGET static inline int lt_bvh8_child_lanes(const lt_bvh8_node *n) {
+  __m256i count = _mm256_loadu_si256((const __m256i *)n->count);
+  __m256i empty = _mm256_cmpeq_epi32(count, _mm256_setzero_si256());
+  return ~_mm256_movemask_ps(_mm256_castsi256_ps(empty)) & 0xff;
+}
+
+/* The plain form: each lane through lt_ray_box. One bit per lane whose box the ray meets
+ * within [tmin, tmax], those lanes' entry distances in t_entry. */
+static inline int lt_bvh8_box8_scalar(const lt_ray_setup *r, const lt_bvh8_node *n, float tmax, float t_entry[8]) {
+  int mask = 0;
+  for (int lane = 0; lane < LT_BVH8_WIDTH; lane++) {
+    float lo[3], hi[3];
+    lt_bvh8_child_box(n, lane, lo, hi);
+    if (lt_ray_box(r, lo, hi, tmax, &t_entry[lane])) mask |= 1 << lane;
+  }
+  return mask;
+}
+
+/* The same eight tests as one AVX register per slab, empty lanes dropped. */
+LT_BVH8_TARGET static inline int lt_bvh8_box8(const lt_ray_setup *r, const lt_bvh8_ray *q, const lt_bvh8_node *n,
+                                              float tmax, float t_entry[8]) {
+  if (q->parallel) return lt_bvh8_box8_scalar(r, n, tmax, t_entry) & lt_bvh8_child_lanes(n);
+  const float *planes = n->lo_x;
+  __m256 near_t = _mm256_set1_ps(-INFINITY), far_t = _mm256_set1_ps(INFINITY);
+  for (int k = 0; k < 3; k++) {
+    /* Axis k of all eight boxes, met in the order lt_ray_slabs meets them. */
+    __m256 t0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(planes + 16 * k), q->org[k]), q->inv[k]);
+    __m256 t1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(planes + 16 * k + 8), q->org[k]), q->inv[k]);
+    near_t = _mm256_max_ps(_mm256_min_ps(t0, t1), near_t);
+    far_t = _mm256_min_ps(_mm256_max_ps(t1, t0), far_t);
+  }
+  if (q->widen) {
+    __m256 magnitude = _mm256_and_ps(far_t, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
+    far_t = _mm256_add_ps(far_t, _mm256_mul_ps(magnitude, _mm256_set1_ps(LT_SLAB_ROUNDING_EPS)));
+  }
+
+  /* Within [tmin, tmax], as lt_ray_box clamps. */
+  near_t = _mm256_max_ps(near_t, q->tmin);
+  far_t = _mm256_min_ps(far_t, _mm256_set1_ps(tmax));
+  _mm256_storeu_ps(t_entry, near_t);
+  return _mm256_movemask_ps(_mm256_cmp_ps(near_t, far_t, _CMP_LE_OS)) & lt_bvh8_child_lanes(n);
+}
+
+/* One bit per lane of the block that the watertight test might not reject by the signs of
+ * its edge functions (see the top of this file): lt_intersect_watertight's first steps, four
+ * triangles at once, with the same operations in the same order. */
+LT_BVH8_TARGET static inline int lt_bvh8_tri4_candidates(const lt_ray_setup *r, const lt_bvh8_ray *q,
+                                                         const lt_tri4 *b) {
+  /* Vertices relative to the origin, sheared and scaled into ray space. */
+  __m128 a[3], bb[3], c[3];
+  for (int k = 0; k < 3; k++) {
+    a[k] = _mm_sub_ps(_mm_load_ps(b->v[k]), q->org4[k]);
+    bb[k] = _mm_sub_ps(_mm_load_ps(b->v[3 + k]), q->org4[k]);
+    c[k] = _mm_sub_ps(_mm_load_ps(b->v[6 + k]), q->org4[k]);
+  }
+  int kx = r->kx, ky = r->ky, kz = r->kz;
+  __m128 ax = _mm_sub_ps(a[kx], _mm_mul_ps(q->sx4, a[kz])), ay = _mm_sub_ps(a[ky], _mm_mul_ps(q->sy4, a[kz]));
+  __m128 bx = _mm_sub_ps(bb[kx], _mm_mul_ps(q->sx4, bb[kz])), by = _mm_sub_ps(bb[ky], _mm_mul_ps(q->sy4, bb[kz]));
+  __m128 cx = _mm_sub_ps(c[kx], _mm_mul_ps(q->sx4, c[kz])), cy = _mm_sub_ps(c[ky], _mm_mul_ps(q->sy4, c[kz]));
+
+  /* The edge functions, then the lanes the test rejects: none zero, signs mixed. */
+  __m128 u = _mm_sub_ps(_mm_mul_ps(cx, by), _mm_mul_ps(cy, bx));
+  __m128 v = _mm_sub_ps(_mm_mul_ps(ax, cy), _mm_mul_ps(ay, cx));
+  __m128 w = _mm_sub_ps(_mm_mul_ps(bx, ay), _mm_mul_ps(by, ax));
+  __m128 zero = _mm_setzero_ps();
+  __m128 any_zero = _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(u, zero), _mm_cmpeq_ps(v, zero)), _mm_cmpeq_ps(w, zero));
+  __m128 any_neg = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(u, zero), _mm_cmplt_ps(v, zero)), _mm_cmplt_ps(w, zero));
+  __m128 any_pos = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(u, zero), _mm_cmpgt_ps(v, zero)), _mm_cmpgt_ps(w, zero));
+  __m128 rejected = _mm_andnot_ps(any_zero, _mm_and_ps(any_neg, any_pos));
+  return ~_mm_movemask_ps(rejected) & 15;
+}
+
+/* The one-triangle test of the ray's kind on triangle t. */
+LT_BVH8_TARGET static inline void lt_bvh8_triangle(const lt_ray_setup *r, const lt_tri *t, lt_hit_record *hit) {
+  float v0[3] = {t->v0.x, t->v0.y, t->v0.z}, v1[3] = {t->v1.x, t->v1.y, t->v1.z}, v2[3] = {t->v2.x, t->v2.y, t->v2.z};
+  lt_intersect_triangle(r, v0, v1, v2, lt_float_as_int(t->v0.w), hit);
+}
+
+/* Traces one ray prepared with lt_ray_prepare (its flags set) through a finished 8-wide tree
+ * whose leaves are triangles in leaf order; writes the hit (prim -1 on a miss) and returns 0,
+ * or -1 when the stack would overflow (never on a tree of LT_BVH_MAX_DEPTH levels).
+ * `vector` 0 takes the plain box test and tests every triangle one by one (the tests compare
+ * both). */
+LT_BVH8_TARGET static inline int lt_bvh8_traverse_with(const lt_bvh8_node *nodes, const lt_tri4 *blocks,
+                                                       const lt_tri *tris, const lt_ray_setup *r, lt_hit_record *out,
+                                                       lt_trace_counters *c, int vector) {
+  lt_hit_record hit;
+  hit.t = r->tmax, hit.u = hit.v = 0.0f, hit.prim = -1;
+  int any_hit = r->flags & LT_QUERY_FLAG_ANY, status = 0;
+  lt_bvh8_ray q = lt_bvh8_ray_make(r);
+  lt_bvh8_item stack[LT_BVH8_STACK_SIZE];
+  int sp = 0;
+  lt_i32 first = 0, count = -1; /* node 0, the root's children */
+  while (r->valid) {
+    if (count < 0) {
+      /* An inner child: its children's boxes against the ray, up to the best hit so far. */
+      c->traversal_steps++;
+      const lt_bvh8_node *n = &nodes[first];
+      float t[8];
+      int mask =
+          vector ? lt_bvh8_box8(r, &q, n, hit.t, t) : lt_bvh8_box8_scalar(r, n, hit.t, t) & lt_bvh8_child_lanes(n);
+      if (mask) {
+        int lane = __builtin_ctz((unsigned)mask);
+        mask &= mask - 1;
+
+        /* One entered, the common case of coherent rays: on with it. */
+        if (!mask) {
+          first = n->first[lane], count = n->count[lane];
+          continue;
+        }
+
+        /* Two: the nearer on, the farther on the stack. */
+        if (!(mask & (mask - 1))) {
+          if (sp == LT_BVH8_STACK_SIZE) {
+            status = -1;
+            break;
+          }
+          int other = __builtin_ctz((unsigned)mask);
+          int near = t[other] < t[lane] ? other : lane, far = near == lane ? other : lane;
+          stack[sp].first = n->first[far], stack[sp].count = n->count[far], stack[sp].t = t[far], sp++;
+          first = n->first[near], count = n->count[near];
+          continue;
+        }
+
+        /* More: all on the stack, sorted far to near (insertion sort, at most eight). */
+        if (sp + LT_BVH8_WIDTH > LT_BVH8_STACK_SIZE) {
+          status = -1;
+          break;
+        }
+        int base = sp;
+        stack[sp].first = n->first[lane], stack[sp].count = n->count[lane], stack[sp].t = t[lane], sp++;
+        do {
+          lane = __builtin_ctz((unsigned)mask);
+          mask &= mask - 1;
+          lt_bvh8_item item = {n->first[lane], n->count[lane], t[lane]};
+          int j = sp++;
+          while (j > base && stack[j - 1].t < item.t) stack[j] = stack[j - 1], j--;
+          stack[j] = item;
+        } while (mask);
+        sp--;
+        first = stack[sp].first, count = stack[sp].count;
+        continue;
+      }
+    } else {
+      /* A leaf: a small one triangle by triangle, a big one four at a time through the filter. */
+      c->intersections += (lt_u32)count;
+      const lt_tri *t = &tris[first];
+      if (count < LT_BVH8_FILTER_MIN || !vector || !q.filter) {
+        for (lt_i32 k = 0; k < count; k++) lt_bvh8_triangle(r, &t[k], &hit);
+      } else {
+        const lt_tri4 *b = &blocks[first >> 2];
+        for (lt_i32 left = count; left > 0; left -= 4, b++, t += 4) {
+          int lanes = (left < 4 ? (1 << left) - 1 : 15) & lt_bvh8_tri4_candidates(r, &q, b);
+          while (lanes) {
+            lt_bvh8_triangle(r, &t[__builtin_ctz((unsigned)lanes)], &hit);
+            lanes &= lanes - 1;
+          }
+        }
+      }
+      if (any_hit && hit.prim >= 0) break;
+    }
+
+    /* The nearest pending child the best hit does not rule out (ties are kept: a triangle at
+     * the same distance with a lower number still wins). */
+    while (sp > 0 && stack[sp - 1].t > hit.t) sp--;
+    if (sp == 0) break;
+    sp--;
+    first = stack[sp].first, count = stack[sp].count;
+  }
+  *out = hit;
+  return status;
+}
+
+#endif
