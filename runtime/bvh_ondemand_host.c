@@ -2,8 +2,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "builders/host/morton.h"
 #include "kernels/bvh_ondemand.h"
 #include "kernels/native_kernels.h"
+#include "runtime/context_internal.h"
 #include "runtime/error.h"
 #include "runtime/bvh_ondemand_host.h"
 #include "runtime/kernel_args_host.h"
@@ -19,13 +21,42 @@ static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, in
                         int setup);
 static lt_status read_counters(lt__ondemand *od, lt_stats *stats);
 
+/* The Morton top's buffers: the triangles in code order go into both index and scratch (the
+ * partitions' ping-pong, see builders/bvh_task.h), beside the sorted codes and block boxes. The
+ * sort runs on one host thread per work-group, at most one per core. */
+static lt_status morton_order(lt__ondemand *od, const float *boxes, int *index) {
+  lt_context *ctx = od->ctx;
+  size_t n = (size_t)od->count, blocks = lt__morton_block_count(n);
+  od->morton_blocks = (od->count + LT_BVH_MORTON_BLOCK - 1) / LT_BVH_MORTON_BLOCK;
+  lt_status status = lt__buffer_create(ctx, &od->codes, n * 4, NULL, LT_BUFFER_UNINIT);
+  if (!status) status = lt__buffer_create(ctx, &od->block_boxes, blocks * 8 * sizeof(float), NULL, LT_BUFFER_UNINIT);
+  if (status) return status;
+  uint32_t *codes = lt__buffer_begin_write(ctx, &od->codes);
+  float *block_boxes = lt__buffer_begin_write(ctx, &od->block_boxes);
+  int *scratch = lt__buffer_begin_write(ctx, &od->scratch);
+  int workers = lt_context_work_groups(ctx), cores = lt__native_threads();
+  lt__executor executor = {workers < cores ? workers : cores, lt__native_run};
+  status = codes && block_boxes && scratch ? LT_OK : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a Morton order");
+  if (!status)
+    status = lt__morton_order(boxes, n, &od->bounds, &executor, codes, (int32_t *)index, block_boxes, &od->sort_ops);
+  if (!status) memcpy(scratch, index, n * sizeof *index);
+  /* Always hand the staging copies back, whatever happened. */
+  lt_status uploaded = codes ? lt__buffer_end_write(ctx, &od->codes, codes) : LT_OK;
+  if (!status) status = uploaded;
+  uploaded = block_boxes ? lt__buffer_end_write(ctx, &od->block_boxes, block_boxes) : LT_OK;
+  if (!status) status = uploaded;
+  uploaded = scratch ? lt__buffer_end_write(ctx, &od->scratch, scratch) : LT_OK;
+  return status ? status : uploaded;
+}
+
 lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__sah_config *sah, int mode,
-                              int pool_capacity, int node_capacity, lt__ondemand *od) {
+                              int pool_capacity, int node_capacity, int morton_above, lt__ondemand *od) {
   memset(od, 0, sizeof *od);
   od->ctx = ctx;
   od->count = (int)lt_scene_triangle_count(scene);
   od->slab_count = lt__ondemand_slab_count > 0 ? lt__ondemand_slab_count : 0;
   od->sah = *sah;
+  od->morton_above = morton_above > 0 && morton_above < od->count ? morton_above : od->count;
   if (sah->bins > LT_MAX_BINS) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "at most %d SAH bins", LT_MAX_BINS);
   /* Device buffers: the scene's triangles as they are (no copy on native), their boxes,
    * references, partition room, nodes, bin slabs, counters. */
@@ -36,12 +67,14 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
   if (!status) status = lt__buffer_wrap(ctx, &od->verts, lt_scene_triangles(scene), n * 9 * sizeof(float));
   if (!status) status = lt__buffer_create(ctx, &od->prim_boxes, n * 8 * sizeof(float), NULL, LT_BUFFER_UNINIT);
   if (!status) status = lt__buffer_create(ctx, &od->index, n * 4, NULL, LT_BUFFER_UNINIT);
+  if (!status) status = lt__buffer_create(ctx, &od->scratch, n * 4, NULL, LT_BUFFER_UNINIT);
   if (!status) {
     float *boxes = lt__buffer_begin_write(ctx, &od->prim_boxes);
     int *index = lt__buffer_begin_write(ctx, &od->index);
     status = boxes && index ? LT_OK : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for %zu triangles", n);
     if (!status) status = lt__triangle_boxes(scene, boxes, &od->bounds);
-    for (int i = 0; !status && i < od->count; i++) index[i] = i;
+    if (!status && od->morton_above < od->count) status = morton_order(od, boxes, index);
+    for (int i = 0; !status && od->morton_above == od->count && i < od->count; i++) index[i] = i;
     /* Always hand the staging copies back (OpenCL frees them), whatever happened. */
     lt_status uploaded = boxes ? lt__buffer_end_write(ctx, &od->prim_boxes, boxes) : LT_OK;
     if (!status) status = uploaded;
@@ -49,7 +82,8 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
     if (!status) status = uploaded;
   }
   if (!status) status = lt__buffer_create(ctx, &od->side, n * 4, NULL, LT_BUFFER_UNINIT);
-  if (!status) status = lt__buffer_create(ctx, &od->scratch, n * 4, NULL, LT_BUFFER_UNINIT);
+  if (!status && od->morton_above == od->count) status = lt__buffer_create(ctx, &od->codes, 16, NULL, 0);
+  if (!status && od->morton_above == od->count) status = lt__buffer_create(ctx, &od->block_boxes, 32, NULL, 0);
   if (!status) status = lt__buffer_create(ctx, &od->chunk_left, n * 4, NULL, LT_BUFFER_UNINIT);
   if (!status)
     status = lt__buffer_create(ctx, &od->nodes, (size_t)node_capacity * sizeof(lt_bvh_node), NULL, LT_BUFFER_UNINIT);
@@ -80,7 +114,8 @@ void lt__ondemand_release(lt__ondemand *od) {
   lt__pool_release(&od->pool);
   lt__heap_release(&od->node_heap);
   lt__buffer *buffers[] = {&od->verts, &od->prim_boxes, &od->side,  &od->index,   &od->scratch,
-                           &od->chunk_left, &od->nodes, &od->slabs, &od->slab_used, &od->counters};
+                           &od->chunk_left, &od->nodes, &od->slabs, &od->slab_used, &od->counters,
+                           &od->codes,      &od->block_boxes};
   for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++) lt__buffer_release(buffers[i]);
 }
 
@@ -98,6 +133,8 @@ static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, in
   args.verts = &od->verts, args.prim_boxes = &od->prim_boxes, args.side = &od->side, args.index = &od->index;
   args.scratch = &od->scratch, args.chunk_left = &od->chunk_left, args.nodes = &od->nodes;
   args.slabs = &od->slabs, args.slab_used = &od->slab_used, args.counters = &od->counters;
+  args.codes = &od->codes, args.block_boxes = &od->block_boxes;
+  args.morton_above = od->morton_above, args.morton_blocks = od->morton_blocks;
   args.task_kind = 0; /* the kernel numbers its own task kinds */
   args.slab_count = od->slab_count, args.max_leaf = od->sah.max_leaf_size, args.bins = od->sah.bins;
   args.traversal_cost = od->sah.traversal_cost, args.intersection_cost = od->sah.intersection_cost;
@@ -179,5 +216,5 @@ double lt__ondemand_bytes(const lt__ondemand *od, double *node_bytes, double *re
   *pool_bytes = (double)(od->pool.headers.bytes + od->pool.tasks.bytes + od->pool.empty_cache.bytes +
                          od->pool.priority_cache.bytes + od->pool.control.bytes + od->slabs.bytes);
   return *node_bytes + *reference_bytes + *pool_bytes + od->prim_boxes.bytes + od->side.bytes +
-         od->scratch.bytes + od->chunk_left.bytes;
+         od->scratch.bytes + od->chunk_left.bytes + od->codes.bytes + od->block_boxes.bytes;
 }
