@@ -36,9 +36,12 @@ static lt_status morton_order(lt__ondemand *od, const float *boxes, int *index) 
   int *scratch = lt__buffer_begin_write(ctx, &od->scratch);
   int workers = lt_context_work_groups(ctx), cores = lt__native_threads();
   lt__executor executor = {workers < cores ? workers : cores, lt__native_run};
-  status = codes && block_boxes && scratch ? LT_OK : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a Morton order");
+  void *work = lt__context_scratch(ctx, lt__morton_work_bytes(n));
+  status = codes && block_boxes && scratch && work ? LT_OK
+                                                   : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a Morton order");
   if (!status)
-    status = lt__morton_order(boxes, n, &od->bounds, &executor, codes, (int32_t *)index, block_boxes, &od->sort_ops);
+    status =
+        lt__morton_order(boxes, n, &od->bounds, &executor, work, codes, (int32_t *)index, block_boxes, &od->sort_ops);
   if (!status) memcpy(scratch, index, n * sizeof *index);
   /* Always hand the staging copies back, whatever happened. */
   lt_status uploaded = codes ? lt__buffer_end_write(ctx, &od->codes, codes) : LT_OK;

@@ -58,7 +58,17 @@ void lt_context_destroy(lt_context *ctx) {
   if (!ctx) return;
   lt__opencl_close(ctx);
   free(ctx->build_log);
+  free(ctx->scratch);
   free(ctx);
+}
+
+void *lt__context_scratch(lt_context *ctx, size_t bytes) {
+  if (bytes <= ctx->scratch_bytes) return ctx->scratch;
+  free(ctx->scratch);
+  ctx->scratch_bytes = 0;
+  ctx->scratch = aligned_alloc(16, (bytes + 15) / 16 * 16);
+  if (ctx->scratch) ctx->scratch_bytes = bytes;
+  return ctx->scratch;
 }
 
 const char *lt_context_device_name(const lt_context *ctx) { return ctx->name; }

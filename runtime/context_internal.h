@@ -29,7 +29,16 @@ struct lt_context {
   cl_command_queue queue;
   cl_program program;
   lt__kernel kernels[LT__MAX_KERNELS]; /* created on first use, by entry-point name */
+
+  /* Host working memory kept across structures (lt__context_scratch). */
+  void *scratch;
+  size_t scratch_bytes;
 };
+
+/* At least `bytes` of host working memory (16-byte aligned) that stays with the context, so that
+ * a scene rebuilt every frame does not allocate and fault in its sort's arrays every frame; NULL
+ * when out of memory. Valid until the next call: one structure creates at a time. */
+void *lt__context_scratch(lt_context *ctx, size_t bytes);
 
 /* OpenCL backend (runtime/opencl.c). */
 lt_status lt__opencl_open(lt_context *ctx, int index);

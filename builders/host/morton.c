@@ -66,13 +66,22 @@ static uint32_t quantize(float c, float lo, float scale) {
   return t >= 1023.0f ? 1023u : (uint32_t)t;
 }
 
+/* The keys, and the first radix pass's digit counts on the way. */
+uint32_t lt__morton_code(const float p[3], const float lo[3], const float scale[3]) {
+  uint32_t q[3];
+  for (int k = 0; k < 3; k++) q[k] = quantize(p[k], lo[k], scale[k]);
+  return spread_bits(q[0]) << 2 | spread_bits(q[1]) << 1 | spread_bits(q[2]);
+}
+
 static void codes_chunk(sort_job *j, int chunk) {
+  uint32_t *count = j->digits + (size_t)chunk * BUCKETS;
+  memset(count, 0, BUCKETS * sizeof *count);
   for (int i = chunk * CHUNK; i < chunk_end(j, chunk); i++) {
     const float *b = j->boxes + 8 * (size_t)i;
-    uint32_t q[3];
-    for (int k = 0; k < 3; k++) q[k] = quantize(0.5f * (b[k] + b[4 + k]), j->lo[k], j->scale[k]);
-    uint32_t code = spread_bits(q[0]) << 2 | spread_bits(q[1]) << 1 | spread_bits(q[2]);
+    float centre[3] = {0.5f * (b[0] + b[4]), 0.5f * (b[1] + b[5]), 0.5f * (b[2] + b[6])};
+    uint32_t code = lt__morton_code(centre, j->lo, j->scale);
     j->keys[i] = (uint64_t)code << 32 | (uint32_t)i;
+    count[code & (BUCKETS - 1)]++;
   }
 }
 
@@ -113,11 +122,15 @@ size_t lt__morton_block_count(size_t n) {
   return total;
 }
 
-/* Sorts j->keys (the result ends in j->keys). */
+size_t lt__morton_work_bytes(size_t n) {
+  return 2 * n * sizeof(uint64_t) + (n + CHUNK - 1) / CHUNK * BUCKETS * sizeof(uint32_t);
+}
+
+/* Sorts j->keys (the result ends in j->keys); the first pass's digits are counted already. */
 static void radix_sort(sort_job *j, const lt__executor *ex, double *sort_ops) {
   for (int p = 0; p < RADIX_PASSES; p++) {
     j->shift = 32 + p * RADIX_BITS;
-    parallel_for(ex, j->chunks, count_chunk, j);
+    if (p > 0) parallel_for(ex, j->chunks, count_chunk, j);
 
     /* Exclusive prefix sums, digit by digit and within a digit chunk by chunk. */
     uint32_t sum = 0;
@@ -134,7 +147,7 @@ static void radix_sort(sort_job *j, const lt__executor *ex, double *sort_ops) {
 }
 
 lt_status lt__morton_order(const float *boxes, size_t n, const lt_box *bounds, const lt__executor *executor,
-                           uint32_t *codes, int32_t *index, float *block_boxes, double *sort_ops) {
+                           void *work, uint32_t *codes, int32_t *index, float *block_boxes, double *sort_ops) {
   if (!boxes || !bounds || !codes || !index || !block_boxes || n == 0 || n > INT32_MAX / 2)
     return LT_ERROR_INVALID_ARGUMENT;
   sort_job j = {.boxes = boxes, .n = (int)n, .chunks = (int)((n + CHUNK - 1) / CHUNK)};
@@ -143,9 +156,10 @@ lt_status lt__morton_order(const float *boxes, size_t n, const lt_box *bounds, c
     float extent = bounds->hi[k] - bounds->lo[k];
     j.lo[k] = bounds->lo[k], j.scale[k] = extent > 0.0f ? (float)(1 << AXIS_BITS) / extent : 0.0f;
   }
-  uint64_t *keys = malloc(n * sizeof *keys), *tmp = malloc(n * sizeof *tmp);
-  j.digits = malloc((size_t)j.chunks * BUCKETS * sizeof *j.digits);
-  lt_status status = keys && tmp && j.digits ? LT_OK : LT_ERROR_OUT_OF_MEMORY;
+  void *own = work ? NULL : malloc(lt__morton_work_bytes(n));
+  uint64_t *keys = work ? work : own, *tmp = keys ? keys + n : NULL;
+  j.digits = tmp ? (uint32_t *)(tmp + n) : NULL;
+  lt_status status = keys ? LT_OK : LT_ERROR_OUT_OF_MEMORY;
   if (!status) {
     /* Fewer than two chunks are done on the caller: starting threads would cost more. */
     const lt__executor *ex = j.chunks > 1 ? executor : NULL;
@@ -166,6 +180,6 @@ lt_status lt__morton_order(const float *boxes, size_t n, const lt_box *bounds, c
       level = up;
     }
   }
-  free(keys), free(tmp), free(j.digits);
+  free(own);
   return status;
 }
