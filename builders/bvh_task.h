@@ -130,6 +130,13 @@ LT_DEVICE void lt_bvh_leaf_refs(const lt_bvh_build *b, lt_i32 depth, lt_i32 begi
     for (lt_i32 i = begin; i < end; i++) b->index[i] = b->scratch[i];
 }
 
+/* Whether the node over [begin, end) at `depth` is one of the Morton top's: more than
+ * morton_above primitives whose sorted codes differ (a node whose primitives all share a code is
+ * left to the SAH), clear of the depth bound. Only Morton nodes lie above one. */
+LT_DEVICE int lt_bvh_is_morton(const lt_bvh_build *b, lt_i32 begin, lt_i32 end, lt_i32 depth) {
+  return end - begin > b->morton_above && depth < LT_BVH_MAX_DEPTH - 2 && b->codes[begin] != b->codes[end - 1];
+}
+
 /* Inserts the task that will build child `side` of node `node` over [begin, end). */
 LT_DEVICE void lt_bvh_spawn(const lt_bvh_build *b, lt_i32 node, int side, lt_i32 begin, lt_i32 end, lt_i32 depth,
                             const lt_box *bounds) {
@@ -147,7 +154,7 @@ LT_DEVICE void lt_bvh_spawn(const lt_bvh_build *b, lt_i32 node, int side, lt_i32
     return;
   }
   LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
-  task->phase = count <= LT_BVH_ONE_GO || count > b->morton_above ? LT_BVH_SMALL : LT_BVH_INIT;
+  task->phase = count <= LT_BVH_ONE_GO || lt_bvh_is_morton(b, begin, end, depth) ? LT_BVH_SMALL : LT_BVH_INIT;
   lt_store_box(task->work + W_BOUNDS, bounds);
   lt_bvh_set_child(n, side, bounds, lt_bvh_unbuilt_link(slot), 0);
   lt_pool_publish(&b->pool, slot);
@@ -270,14 +277,14 @@ LT_DEVICE void lt_slab_grow_box(LT_GLOBAL lt_i32 *slab, int i, const lt_box *box
  * larger one that found no free bin slab): bins it (a sample of a large one), prices the
  * splits, notes each primitive's side while bounding both sides, and partitions in order
  * into the other array of the ping-pong. Returns 0 when the node is a leaf; else the split,
- * with exact boxes and counts, and its middle in *mid. A node of the Morton top (more than
- * morton_above primitives) splits its sorted range by code instead and moves nothing: the
+ * with exact boxes and counts, and its middle in *mid. A node of the Morton top
+ * (lt_bvh_is_morton) splits its sorted range by code instead and moves nothing: the
  * host wrote the sorted order into both arrays of the ping-pong, and only Morton nodes lie
  * above, so both still hold it wherever the SAH below takes over. */
 LT_DEVICE int lt_bvh_split_small(const lt_bvh_build *b, lt_i32 begin, lt_i32 end, lt_i32 depth, const lt_box *bounds,
                                  lt_split *s, lt_i32 *mid) {
   lt_i32 n = end - begin;
-  if (n > b->morton_above && depth < LT_BVH_MAX_DEPTH - 2) {
+  if (lt_bvh_is_morton(b, begin, end, depth)) {
     *mid = lt_morton_split(b->codes, begin, end - 1);
     s->left = lt_morton_bounds(b->prim_boxes, b->index, b->block_boxes, b->morton_blocks, begin, *mid);
     s->right = lt_morton_bounds(b->prim_boxes, b->index, b->block_boxes, b->morton_blocks, *mid, end);

@@ -9,7 +9,11 @@
 
 #define AXIS_BITS 10
 #define RADIX_BITS 10
-#define RADIX_PASSES 3 /* 3 * AXIS_BITS bits */
+/* The top 20 of the code's 30 bits are sorted (two passes): the Morton top only splits nodes of
+ * thousands of triangles, which never need the last 10 bits, and a node whose triangles share
+ * all 20 is left to the SAH (builders/bvh_morton.h). */
+#define SORT_BITS 20
+#define RADIX_PASSES (SORT_BITS / RADIX_BITS)
 #define BUCKETS (1 << RADIX_BITS)
 /* Triangles per work item: a fixed size, so that the order is the same for any worker count. */
 #define CHUNK (1 << 14)
@@ -59,27 +63,26 @@ static uint32_t spread_bits(uint32_t v) {
   return v;
 }
 
-/* A centre coordinate as one of 1024 cells; written so that NaN lands in cell 0. */
-static uint32_t quantize(float c, float lo, float scale) {
-  float t = (c - lo) * scale;
-  if (!(t > 0.0f)) return 0;
-  return t >= 1023.0f ? 1023u : (uint32_t)t;
+/* Each lane as one of 1024 cells: (p - lo) * scale truncated, NaN and below 0 in cell 0, from
+ * 1023 on in cell 1023 (max and min as comparisons, which send NaN to their second operand). */
+static inline uint32_t code4(lt_v4 p, lt_v4 lo, lt_v4 scale) {
+  lt_v4 t = lt_v4_min(lt_v4_max((p - lo) * scale, lt_v4_splat(0.0f)), lt_v4_splat(1023.0f));
+  lt_vi4 q = lt_v4_to_int(t);
+  return spread_bits((uint32_t)q[0]) << 2 | spread_bits((uint32_t)q[1]) << 1 | spread_bits((uint32_t)q[2]);
 }
 
-/* The keys, and the first radix pass's digit counts on the way. */
 uint32_t lt__morton_code(const float p[3], const float lo[3], const float scale[3]) {
-  uint32_t q[3];
-  for (int k = 0; k < 3; k++) q[k] = quantize(p[k], lo[k], scale[k]);
-  return spread_bits(q[0]) << 2 | spread_bits(q[1]) << 1 | spread_bits(q[2]);
+  return code4(lt_v4_make(p[0], p[1], p[2], 0.0f), lt_v4_make(lo[0], lo[1], lo[2], 0.0f),
+               lt_v4_make(scale[0], scale[1], scale[2], 0.0f));
 }
 
 static void codes_chunk(sort_job *j, int chunk) {
   uint32_t *count = j->digits + (size_t)chunk * BUCKETS;
   memset(count, 0, BUCKETS * sizeof *count);
-  for (int i = chunk * CHUNK; i < chunk_end(j, chunk); i++) {
-    const float *b = j->boxes + 8 * (size_t)i;
-    float centre[3] = {0.5f * (b[0] + b[4]), 0.5f * (b[1] + b[5]), 0.5f * (b[2] + b[6])};
-    uint32_t code = lt__morton_code(centre, j->lo, j->scale);
+  const lt_v4 *boxes = (const lt_v4 *)j->boxes;
+  lt_v4 lo = lt_v4_make(j->lo[0], j->lo[1], j->lo[2], 0.0f), scale = lt_v4_make(j->scale[0], j->scale[1], j->scale[2], 0.0f);
+  for (int i = chunk * CHUNK, end = chunk_end(j, chunk); i < end; i++) {
+    uint32_t code = code4((boxes[2 * (size_t)i] + boxes[2 * (size_t)i + 1]) * 0.5f, lo, scale) >> (30 - SORT_BITS);
     j->keys[i] = (uint64_t)code << 32 | (uint32_t)i;
     count[code & (BUCKETS - 1)]++;
   }
@@ -88,12 +91,12 @@ static void codes_chunk(sort_job *j, int chunk) {
 static void count_chunk(sort_job *j, int chunk) {
   uint32_t *count = j->digits + (size_t)chunk * BUCKETS;
   memset(count, 0, BUCKETS * sizeof *count);
-  for (int i = chunk * CHUNK; i < chunk_end(j, chunk); i++) count[(j->keys[i] >> j->shift) & (BUCKETS - 1)]++;
+  for (int i = chunk * CHUNK, end = chunk_end(j, chunk); i < end; i++) count[(j->keys[i] >> j->shift) & (BUCKETS - 1)]++;
 }
 
 static void scatter_chunk(sort_job *j, int chunk) {
   uint32_t *slot = j->digits + (size_t)chunk * BUCKETS;
-  for (int i = chunk * CHUNK; i < chunk_end(j, chunk); i++)
+  for (int i = chunk * CHUNK, end = chunk_end(j, chunk); i < end; i++)
     j->tmp[slot[(j->keys[i] >> j->shift) & (BUCKETS - 1)]++] = j->keys[i];
 }
 
@@ -102,6 +105,9 @@ static void scatter_chunk(sort_job *j, int chunk) {
 static void unpack_chunk(sort_job *j, int chunk) {
   const lt_v4 *boxes = (const lt_v4 *)j->boxes;
   for (int i = chunk * CHUNK; i < chunk_end(j, chunk); i += LT_BVH_MORTON_BLOCK) {
+    /* The boxes are gathered in code order: ask for a block ahead. */
+    for (int p = i + 4 * LT_BVH_MORTON_BLOCK; p < i + 5 * LT_BVH_MORTON_BLOCK && p < j->n; p++)
+      __builtin_prefetch(&boxes[2 * (size_t)(uint32_t)j->keys[p]]);
     int end = i + LT_BVH_MORTON_BLOCK < j->n ? i + LT_BVH_MORTON_BLOCK : j->n;
     lt_v4 lo = lt_v4_splat(INFINITY), hi = lt_v4_splat(-INFINITY);
     for (int p = i; p < end; p++) {

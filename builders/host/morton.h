@@ -23,8 +23,9 @@ size_t lt__morton_block_count(size_t n);
 /* Bytes of working memory lt__morton_order needs for n triangles (keys and digit counts). */
 size_t lt__morton_work_bytes(size_t n);
 
-/* Sorts n triangles by the 30-bit Morton code of their box centres, quantised over `bounds`
- * (any box holding the centres), stably, so equal codes keep triangle order. boxes holds 8
+/* Sorts n triangles by the top 20 bits of the 30-bit Morton code of their box centres,
+ * quantised over `bounds` (any box holding the centres), stably, so equal codes keep triangle
+ * order; those 20 bits are the codes written. boxes holds 8
  * floats per triangle (lo xyz 0, hi xyz 0). Writes the sorted codes, the triangle numbers in
  * that order, and the pyramid of block boxes (2 lt_v4 each, lt__morton_block_count(n) of
  * them); adds n per radix pass to *sort_ops. `work` is lt__morton_work_bytes(n) bytes, 8-byte
