@@ -5,7 +5,7 @@
  *
  *   bench_frame_parts [--runs R] [--build requested|speculative] [--top sah|morton[:K]] SCENE...
  *
- * (--top morton:K: the Morton top, nodes of more than K triangles split by code; K 16384 when
+ * (--top morton:K: the Morton top, nodes of more than K triangles split by code; K 2048 when
  * left out.)
  *
  * For each frame of the collision workload (100 agents x 8 rays x 20 frames, seeds as in

@@ -269,7 +269,7 @@ typedef struct lt_structure_config {
   int bvh_builder;             /* escape-index BVH: LT_BVH_BUILDER_*; default SAH */
   int bvh_top;                 /* BVH: LT_BVH_TOP_*; default SAH */
   int bvh_morton_above;        /* BVH with the Morton top: nodes of more triangles are split by
-                                  Morton code, smaller ones by SAH; default 16384 */
+                                  Morton code, smaller ones by SAH; default 2048 */
 } lt_structure_config;
 
 /* The kd-tree's choices (0 in a config: the default). Traversal: front to back with a stack, or

@@ -158,7 +158,7 @@ const lt__structure_class lt__structure_bvh = {
     .modes = 1u << LT_BUILD_FULL | 1u << LT_BUILD_REQUESTED | 1u << LT_BUILD_SPECULATIVE,
     .defaults = {.kind = LT_STRUCTURE_BVH, .build = LT_BUILD_SPECULATIVE, .max_leaf_size = 16, .sah_bins = 32,
                  .traversal_cost = 1.0f, .pool_capacity = 0, .intersect = LT_INTERSECT_WATERTIGHT, .grid_density = 3.0f,
-                 .bvh_top = LT_BVH_TOP_SAH, .bvh_morton_above = 16384},
+                 .bvh_top = LT_BVH_TOP_SAH, .bvh_morton_above = 2048},
     .state_size = sizeof(bvh_state),
     .create = create,
     .trace = trace,
