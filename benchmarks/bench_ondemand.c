@@ -330,7 +330,12 @@ static int collide(int argc, char **argv, int runs, FILE *csv) {
       if (best >= 0 && f[peers[p]].ok) printf(" %.2f |", b / median_frame(frame_ms, peers[p], runs));
       else printf(" - |");
     }
-    printf(" %.0f, %.0f, %.0f |\n", f[REQUESTED].nodes, f[REQUESTED_MORTON].nodes, f[KD_REQUESTED].nodes);
+    static const int counted[] = {REQUESTED, REQUESTED_MORTON, KD_REQUESTED};
+    for (int c = 0; c < 3; c++) {
+      if (f[counted[c]].ok) printf("%s %.0f", c ? "," : "", f[counted[c]].nodes);
+      else printf("%s -", c ? "," : "");
+    }
+    printf(" |\n");
     if (csv)
       for (int m = 0; m < METHODS; m++)
         if (f[m].ok)
