@@ -21,6 +21,20 @@ static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, in
                         int setup);
 static lt_status read_counters(lt__ondemand *od, lt_stats *stats);
 
+/* A per-frame array that a scene rebuilt every frame would otherwise fault in again every frame:
+ * on native, host memory kept on the context (taken here, given back at release); on OpenCL a
+ * device buffer like any other. Its contents are undefined. */
+static lt_status per_frame_buffer(lt__ondemand *od, int slot, lt__buffer *buffer, size_t bytes) {
+  lt_context *ctx = od->ctx;
+  if (ctx->kind != LT_DEVICE_NATIVE) return lt__buffer_create(ctx, buffer, bytes, NULL, LT_BUFFER_UNINIT);
+  void *host = lt__context_take(ctx, slot, bytes, &od->kept_bytes[slot]);
+  if (!host) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a %zu-byte array", bytes);
+  lt_status status = lt__buffer_wrap(ctx, buffer, host, bytes);
+  if (status) lt__context_give(ctx, slot, host, od->kept_bytes[slot]);
+  else od->kept[slot] = host;
+  return status;
+}
+
 /* The Morton top's buffers: the triangles in code order go into both index and scratch (the
  * partitions' ping-pong, see builders/bvh_task.h), beside the sorted codes and block boxes. The
  * sort runs on one host thread per work-group, at most one per core. */
@@ -28,21 +42,23 @@ static lt_status morton_order(lt__ondemand *od, const float *boxes, int *index) 
   lt_context *ctx = od->ctx;
   size_t n = (size_t)od->count, blocks = lt__morton_block_count(n);
   od->morton_blocks = (od->count + LT_BVH_MORTON_BLOCK - 1) / LT_BVH_MORTON_BLOCK;
-  lt_status status = lt__buffer_create(ctx, &od->codes, n * 4, NULL, LT_BUFFER_UNINIT);
-  if (!status) status = lt__buffer_create(ctx, &od->block_boxes, blocks * 8 * sizeof(float), NULL, LT_BUFFER_UNINIT);
+  lt_status status = per_frame_buffer(od, LT__KEEP_CODES, &od->codes, n * 4);
+  if (!status) status = per_frame_buffer(od, LT__KEEP_BLOCKS, &od->block_boxes, blocks * 8 * sizeof(float));
   if (status) return status;
   uint32_t *codes = lt__buffer_begin_write(ctx, &od->codes);
   float *block_boxes = lt__buffer_begin_write(ctx, &od->block_boxes);
   int *scratch = lt__buffer_begin_write(ctx, &od->scratch);
   int workers = lt_context_work_groups(ctx), cores = lt__native_threads();
   lt__executor executor = {workers < cores ? workers : cores, lt__native_run};
-  void *work = lt__context_scratch(ctx, lt__morton_work_bytes(n));
+  size_t work_bytes;
+  void *work = lt__context_take(ctx, LT__KEEP_SORT, lt__morton_work_bytes(n), &work_bytes);
   status = codes && block_boxes && scratch && work ? LT_OK
                                                    : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a Morton order");
   if (!status)
     status =
         lt__morton_order(boxes, n, &od->bounds, &executor, work, codes, (int32_t *)index, block_boxes, &od->sort_ops);
   if (!status) memcpy(scratch, index, n * sizeof *index);
+  lt__context_give(ctx, LT__KEEP_SORT, work, work_bytes);
   /* Always hand the staging copies back, whatever happened. */
   lt_status uploaded = codes ? lt__buffer_end_write(ctx, &od->codes, codes) : LT_OK;
   if (!status) status = uploaded;
@@ -68,9 +84,9 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
   lt_status status = lt__pool_create(ctx, &config, mode, &od->pool);
   if (!status) status = lt__heap_create(ctx, &od->node_heap, node_capacity);
   if (!status) status = lt__buffer_wrap(ctx, &od->verts, lt_scene_triangles(scene), n * 9 * sizeof(float));
-  if (!status) status = lt__buffer_create(ctx, &od->prim_boxes, n * 8 * sizeof(float), NULL, LT_BUFFER_UNINIT);
-  if (!status) status = lt__buffer_create(ctx, &od->index, n * 4, NULL, LT_BUFFER_UNINIT);
-  if (!status) status = lt__buffer_create(ctx, &od->scratch, n * 4, NULL, LT_BUFFER_UNINIT);
+  if (!status) status = per_frame_buffer(od, LT__KEEP_BOXES, &od->prim_boxes, n * 8 * sizeof(float));
+  if (!status) status = per_frame_buffer(od, LT__KEEP_INDEX, &od->index, n * 4);
+  if (!status) status = per_frame_buffer(od, LT__KEEP_SCRATCH, &od->scratch, n * 4);
   if (!status) {
     float *boxes = lt__buffer_begin_write(ctx, &od->prim_boxes);
     int *index = lt__buffer_begin_write(ctx, &od->index);
@@ -120,6 +136,8 @@ void lt__ondemand_release(lt__ondemand *od) {
                            &od->chunk_left, &od->nodes, &od->slabs, &od->slab_used, &od->counters,
                            &od->codes,      &od->block_boxes};
   for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++) lt__buffer_release(buffers[i]);
+  for (int slot = 0; slot < 8; slot++)
+    if (od->kept[slot]) lt__context_give(od->ctx, slot, od->kept[slot], od->kept_bytes[slot]), od->kept[slot] = NULL;
 }
 
 /* The kernel's arguments from its one list (kernels/bvh_ondemand.h). */

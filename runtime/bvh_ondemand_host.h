@@ -19,6 +19,8 @@ typedef struct lt__ondemand {
   int morton_above;   /* nodes of more triangles are split by Morton code; the count: none are */
   int morton_blocks;  /* block boxes at the bottom of the pyramid */
   lt__sah_config sah;
+  void *kept[8];      /* native: arrays taken from the context (lt__context_take) by slot */
+  size_t kept_bytes[8];
   double leaves;      /* leaves built over all launches */
   double sort_ops;
 } lt__ondemand;
