@@ -23,8 +23,10 @@ LT_DEVICE lt_i32 lt_morton_split(LT_GLOBAL const lt_u32 *codes, lt_i32 first, lt
   lt_i32 lo = first + 1, hi = last;
   while (lo < hi) {
     lt_i32 mid = lo + (hi - lo) / 2;
-    if (codes[mid] & bit) hi = mid;
-    else lo = mid + 1;
+    if (codes[mid] & bit)
+      hi = mid;
+    else
+      lo = mid + 1;
   }
   return lo;
 }

@@ -7,14 +7,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define AXIS_BITS 10
+#define AXIS_BITS  10
 #define RADIX_BITS 10
 /* The top 20 of the code's 30 bits are sorted (two passes): the Morton top only splits nodes of
  * thousands of triangles, which never need the last 10 bits, and a node whose triangles share
  * all 20 is left to the SAH (builders/bvh_morton.h). */
-#define SORT_BITS 20
+#define SORT_BITS    20
 #define RADIX_PASSES (SORT_BITS / RADIX_BITS)
-#define BUCKETS (1 << RADIX_BITS)
+#define BUCKETS      (1 << RADIX_BITS)
 /* Triangles per work item: a fixed size, so that the order is the same for any worker count. */
 #define CHUNK (1 << 14)
 
@@ -80,7 +80,8 @@ static void codes_chunk(sort_job *j, int chunk) {
   uint32_t *count = j->digits + (size_t)chunk * BUCKETS;
   memset(count, 0, BUCKETS * sizeof *count);
   const lt_v4 *boxes = (const lt_v4 *)j->boxes;
-  lt_v4 lo = lt_v4_make(j->lo[0], j->lo[1], j->lo[2], 0.0f), scale = lt_v4_make(j->scale[0], j->scale[1], j->scale[2], 0.0f);
+  lt_v4 lo = lt_v4_make(j->lo[0], j->lo[1], j->lo[2], 0.0f),
+        scale = lt_v4_make(j->scale[0], j->scale[1], j->scale[2], 0.0f);
   for (int i = chunk * CHUNK, end = chunk_end(j, chunk); i < end; i++) {
     uint32_t code = code4((boxes[2 * (size_t)i] + boxes[2 * (size_t)i + 1]) * 0.5f, lo, scale) >> (30 - SORT_BITS);
     j->keys[i] = (uint64_t)code << 32 | (uint32_t)i;
@@ -91,7 +92,8 @@ static void codes_chunk(sort_job *j, int chunk) {
 static void count_chunk(sort_job *j, int chunk) {
   uint32_t *count = j->digits + (size_t)chunk * BUCKETS;
   memset(count, 0, BUCKETS * sizeof *count);
-  for (int i = chunk * CHUNK, end = chunk_end(j, chunk); i < end; i++) count[(j->keys[i] >> j->shift) & (BUCKETS - 1)]++;
+  for (int i = chunk * CHUNK, end = chunk_end(j, chunk); i < end; i++)
+    count[(j->keys[i] >> j->shift) & (BUCKETS - 1)]++;
 }
 
 static void scatter_chunk(sort_job *j, int chunk) {
@@ -152,8 +154,8 @@ static void radix_sort(sort_job *j, const lt__executor *ex, double *sort_ops) {
   }
 }
 
-lt_status lt__morton_order(const float *boxes, size_t n, const lt_box *bounds, const lt__executor *executor,
-                           void *work, uint32_t *codes, int32_t *index, float *block_boxes, double *sort_ops) {
+lt_status lt__morton_order(const float *boxes, size_t n, const lt_box *bounds, const lt__executor *executor, void *work,
+                           uint32_t *codes, int32_t *index, float *block_boxes, double *sort_ops) {
   if (!boxes || !bounds || !codes || !index || !block_boxes || n == 0 || n > INT32_MAX / 2)
     return LT_ERROR_INVALID_ARGUMENT;
   sort_job j = {.boxes = boxes, .n = (int)n, .chunks = (int)((n + CHUNK - 1) / CHUNK)};

@@ -8,8 +8,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "builders/host/executor.h"
 #include "builders/bvh_morton.h"
+#include "builders/host/executor.h"
 
 /* The 30-bit Morton code of a point: each coordinate as one of 1024 cells from lo[k] on,
  * scale[k] cells per unit length (NaN and below lo in cell 0, past the end in cell 1023), the
@@ -31,7 +31,7 @@ size_t lt__morton_work_bytes(size_t n);
  * them); adds n per radix pass to *sort_ops. `work` is lt__morton_work_bytes(n) bytes, 8-byte
  * aligned, that a caller rebuilding every frame keeps (NULL: allocated here). The loops run on
  * the executor's workers (NULL: the caller); the order is the same whatever their number. */
-lt_status lt__morton_order(const float *boxes, size_t n, const lt_box *bounds, const lt__executor *executor,
-                           void *work, uint32_t *codes, int32_t *index, float *block_boxes, double *sort_ops);
+lt_status lt__morton_order(const float *boxes, size_t n, const lt_box *bounds, const lt__executor *executor, void *work,
+                           uint32_t *codes, int32_t *index, float *block_boxes, double *sort_ops);
 
 #endif
