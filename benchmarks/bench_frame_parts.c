@@ -3,7 +3,10 @@
  * over all triangles (the root bins and partitions every triangle, its children half each, ...)
  * whatever its rays reach; then for the other nodes its rays request, and for the trace:
  *
- *   bench_frame_parts [--runs R] [--build requested|speculative] SCENE...
+ *   bench_frame_parts [--runs R] [--build requested|speculative] [--top sah|morton[:K]] SCENE...
+ *
+ * (--top morton:K: the Morton top, nodes of more than K triangles split by code; K 2048 when
+ * left out.)
  *
  * For each frame of the collision workload (100 agents x 8 rays x 20 frames, seeds as in
  * bench_ondemand collide), on the native backend, each step on a new structure:
@@ -43,11 +46,15 @@ static double timed(lt_context *ctx, const lt_scene *scene, const lt_structure_c
   return status ? -1.0 : ms;
 }
 
-static int parts(lt_context *ctx, const char *spec, lt_build_mode build, int runs) {
+static int parts(lt_context *ctx, const char *spec, lt_build_mode build, const char *top, int runs) {
   lt_scene *scene;
   if (lt_scene_load(spec, &scene) != LT_OK) return fprintf(stderr, "%s\n", lt_last_error()), 1;
   lt_structure_config config = lt_structure_config_default(LT_STRUCTURE_BVH);
   config.build = build;
+  if (strncmp(top, "morton", 6) == 0) {
+    config.bvh_top = LT_BVH_TOP_MORTON;
+    if (top[6] == ':') config.bvh_morton_above = atoi(top + 7);
+  }
   size_t n = (size_t)AGENTS * PER_AGENT;
   float paths[6 * AGENTS];
   lt_ray rays[AGENTS * PER_AGENT];
@@ -87,8 +94,8 @@ static int parts(lt_context *ctx, const char *spec, lt_build_mode build, int run
   double frame = lt_bench_median(v[FRAME], m);
   double s = lt_bench_median(setup, m), p = lt_bench_median(path, m), r = lt_bench_median(rest, m);
   double t = lt_bench_median(v[TRACE], m);
-  printf("| %s | %zu | %.0f | %.1f | %.1f (%.0f%%) | %.1f (%.0f%%) | %.1f (%.0f%%) | %.1f (%.0f%%) |\n", spec,
-         lt_scene_triangle_count(scene), lt_bench_median(v[NODES], m), frame, s, 100 * s / frame, p, 100 * p / frame, r,
+  printf("| %s | %s | %zu | %.0f | %.1f | %.1f (%.0f%%) | %.1f (%.0f%%) | %.1f (%.0f%%) | %.1f (%.0f%%) |\n", spec,
+         top, lt_scene_triangle_count(scene), lt_bench_median(v[NODES], m), frame, s, 100 * s / frame, p, 100 * p / frame, r,
          100 * r / frame, t, 100 * t / frame);
   lt_stats_destroy(stats);
   lt_scene_destroy(scene);
@@ -99,20 +106,23 @@ int main(int argc, char **argv) {
   setvbuf(stdout, NULL, _IOLBF, 0);
   int runs = 3;
   lt_build_mode build = LT_BUILD_REQUESTED;
+  const char *top = "sah";
   lt_context *ctx;
   lt_context_config cc = {LT_DEVICE_NATIVE, 0, 0, 0, 1};
   if (lt_context_create(&cc, &ctx) != LT_OK) return fprintf(stderr, "%s\n", lt_last_error()), 1;
   printf(
-      "| scene | triangles | nodes per frame | frame ms | set-up ms | top path ms | other requested nodes ms |"
-      " trace ms |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
+      "| scene | top | triangles | nodes per frame | frame ms | set-up ms | top path ms | other requested nodes ms |"
+      " trace ms |\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int i = 1; i < argc; i++) {
     if (strcmp(argv[i], "--runs") == 0 && i + 1 < argc)
       runs = atoi(argv[++i]);
     else if (strcmp(argv[i], "--build") == 0 && i + 1 < argc)
       build = strcmp(argv[++i], "speculative") == 0 ? LT_BUILD_SPECULATIVE : LT_BUILD_REQUESTED;
+    else if (strcmp(argv[i], "--top") == 0 && i + 1 < argc)
+      top = argv[++i];
     else if (runs < 1 || runs > MAX_RUNS)
       return fprintf(stderr, "bench_frame_parts: --runs 1 to %d\n", MAX_RUNS), 2;
-    else if (parts(ctx, argv[i], build, runs))
+    else if (parts(ctx, argv[i], build, top, runs))
       return 1;
   }
   lt_context_destroy(ctx);

@@ -3,13 +3,15 @@
  *
  *   bench_ondemand table  [--runs R] [--size N] [--ao S] SCENE...   Table 1: time to image
  *   bench_ondemand sweep  [--runs R] [--size N] [--max M]           Figure 5: house-row:1..M
- *   bench_ondemand collide [--runs R] SCENE...                      Table 4: collision rays
+ *   bench_ondemand collide [--runs R] [--peers] SCENE...            Table 4: collision rays
  *   bench_ondemand steps  [--size N] SCENE...                       Table 3: steps per ray
  *
  * Methods: the SAH BVH built in full, requested and speculative modes, the LBVH, Embree; with
  * --kd, table and sweep measure the kd-tree in the three modes instead (the paper's Table 2
  * and Figure 5 for kd-trees), beside the full and speculative BVH and Embree; collide always
- * measures both, and Embree's low-quality build beside its default.
+ * measures both, the BVH with its Morton top (--top morton) too, and Embree's low-quality build
+ * beside its default; collide --peers only the on-demand BVH (both tops), the LBVH and Embree low
+ * (no full builds, whose hits the others are otherwise checked against; the tests check them).
  * Every figure is the median of R runs (methods interleaved run by run); the lazytrace hits
  * are checked against the full build's. Markdown goes to stdout, CSV to --csv FILE. */
 #include <math.h>
@@ -28,7 +30,8 @@
 #define METHODS LT_BENCH_METHODS
 enum { FULL = LT_BENCH_FULL, REQUESTED = LT_BENCH_REQUESTED, SPECULATIVE = LT_BENCH_SPECULATIVE, LBVH = LT_BENCH_LBVH,
        KD_FULL = LT_BENCH_KD_FULL, KD_REQUESTED = LT_BENCH_KD_REQUESTED, KD_SPECULATIVE = LT_BENCH_KD_SPECULATIVE,
-       EMBREE = LT_BENCH_EMBREE, EMBREE_LOW = LT_BENCH_EMBREE_LOW, QBVH = LT_BENCH_QBVH };
+       EMBREE = LT_BENCH_EMBREE, EMBREE_LOW = LT_BENCH_EMBREE_LOW, QBVH = LT_BENCH_QBVH,
+       REQUESTED_MORTON = LT_BENCH_REQUESTED_MORTON, SPECULATIVE_MORTON = LT_BENCH_SPECULATIVE_MORTON };
 
 /* Which methods an experiment runs (bits 1 << method). */
 #define BVH_METHODS (1u << FULL | 1u << REQUESTED | 1u << SPECULATIVE | 1u << LBVH | 1u << EMBREE)
@@ -36,7 +39,10 @@ enum { FULL = LT_BENCH_FULL, REQUESTED = LT_BENCH_REQUESTED, SPECULATIVE = LT_BE
 #define TABLE1_METHODS (BVH_METHODS | 1u << QBVH)
 #define KD_METHODS (1u << KD_FULL | 1u << KD_REQUESTED | 1u << KD_SPECULATIVE | 1u << FULL | 1u << SPECULATIVE | 1u << EMBREE)
 /* Collision frames rebuild every time: Embree's low-quality (Morton) build is the peer there. */
-#define COLLIDE_METHODS (BVH_METHODS | KD_METHODS | 1u << EMBREE_LOW)
+#define COLLIDE_METHODS (BVH_METHODS | KD_METHODS | 1u << EMBREE_LOW | MORTON_METHODS)
+#define MORTON_METHODS (1u << REQUESTED_MORTON | 1u << SPECULATIVE_MORTON)
+/* collide --peers: only what a frame that rebuilds is compared with (no full builds, no kd-tree). */
+#define PEER_METHODS (1u << REQUESTED | 1u << SPECULATIVE | MORTON_METHODS | 1u << LBVH | 1u << EMBREE_LOW)
 static unsigned methods_run = BVH_METHODS;
 
 typedef struct figures {
@@ -241,8 +247,9 @@ static int sweep(int runs, int size, int max, FILE *csv) {
  * median run's total of 20 frames. */
 #define FRAMES 20
 
-static const char *const collide_labels[METHODS] = {"full",   "requested", "speculative",    "LBVH",  "Kd",
-                                                     "Kd_R",   "Kd_A",      "Embree default", "Embree low"};
+static const char *const collide_labels[METHODS] = {
+    "full", "requested", "speculative", "LBVH", "Kd", "Kd_R", "Kd_A", "Embree default", "Embree low", "QBVH",
+    "requested, Morton top", "speculative, Morton top"};
 
 static double median_frame(const double (*frame_ms)[MAX_RUNS * FRAMES], int m, int runs) {
   return lt_bench_median(frame_ms[m], runs * FRAMES);
@@ -250,14 +257,20 @@ static double median_frame(const double (*frame_ms)[MAX_RUNS * FRAMES], int m, i
 
 static int collide(int argc, char **argv, int runs, FILE *csv) {
   const int agents = 100, per_agent = 8;
-  static const int columns[] = {FULL, REQUESTED, SPECULATIVE, KD_FULL, KD_REQUESTED, KD_SPECULATIVE, LBVH, EMBREE, EMBREE_LOW};
-  static const int on_demand[] = {REQUESTED, SPECULATIVE, KD_REQUESTED, KD_SPECULATIVE};
+  static const int all_columns[] = {FULL,           REQUESTED, SPECULATIVE, REQUESTED_MORTON, SPECULATIVE_MORTON,
+                                    KD_FULL,        KD_REQUESTED, KD_SPECULATIVE, LBVH, EMBREE, EMBREE_LOW};
+  static const int on_demand[] = {REQUESTED, SPECULATIVE, REQUESTED_MORTON, SPECULATIVE_MORTON, KD_REQUESTED,
+                                  KD_SPECULATIVE};
+  /* The columns of the methods this run measures. */
+  int columns[11], ncolumns = 0;
+  for (int c = 0; c < 11; c++)
+    if (methods_run & 1u << all_columns[c]) columns[ncolumns++] = all_columns[c];
   printf("Each method's cell: median milliseconds per frame (build plus trace), over all frames of all runs;"
          " in brackets the median run's total over %d frames.\n\n| scene | triangles |", FRAMES);
-  for (int c = 0; c < 9; c++) printf(" %s |", collide_labels[columns[c]]);
+  for (int c = 0; c < ncolumns; c++) printf(" %s |", collide_labels[columns[c]]);
   printf(" best on-demand | best / Embree low | best / LBVH | best / Embree default | best / full |"
-         " nodes requested per frame (BVH, Kd) |\n|---|---:|");
-  for (int c = 0; c < 9 + 5; c++) printf("---:|");
+         " nodes requested per frame (BVH, BVH Morton top, Kd) |\n|---|---:|");
+  for (int c = 0; c < ncolumns + 5; c++) printf("---:|");
   printf("---:|\n");
   if (csv) fprintf(csv, "scene,triangles,method,frame_ms,total_ms,nodes_per_frame\n");
   for (int i = 0; i < argc; i++) {
@@ -301,13 +314,13 @@ static int collide(int argc, char **argv, int runs, FILE *csv) {
 
     /* The cells, then the best on-demand method per frame against the peers. */
     printf("| %s | %zu |", argv[i], lt_scene_triangle_count(scene));
-    for (int c = 0; c < 9; c++) {
+    for (int c = 0; c < ncolumns; c++) {
       int m = columns[c];
       if (f[m].ok) printf(" %.1f (%.0f) |", median_frame(frame_ms, m, runs), lt_bench_median(f[m].total, runs));
       else printf(" - |");
     }
     int best = -1;
-    for (int o = 0; o < 4; o++)
+    for (int o = 0; o < 6; o++)
       if (f[on_demand[o]].ok && (best < 0 || median_frame(frame_ms, on_demand[o], runs) < median_frame(frame_ms, best, runs)))
         best = on_demand[o];
     double b = best >= 0 ? median_frame(frame_ms, best, runs) : -1.0;
@@ -317,7 +330,12 @@ static int collide(int argc, char **argv, int runs, FILE *csv) {
       if (best >= 0 && f[peers[p]].ok) printf(" %.2f |", b / median_frame(frame_ms, peers[p], runs));
       else printf(" - |");
     }
-    printf(" %.0f, %.0f |\n", f[REQUESTED].nodes, f[KD_REQUESTED].nodes);
+    static const int counted[] = {REQUESTED, REQUESTED_MORTON, KD_REQUESTED};
+    for (int c = 0; c < 3; c++) {
+      if (f[counted[c]].ok) printf("%s %.0f", c ? "," : "", f[counted[c]].nodes);
+      else printf("%s -", c ? "," : "");
+    }
+    printf(" |\n");
     if (csv)
       for (int m = 0; m < METHODS; m++)
         if (f[m].ok)
@@ -380,6 +398,7 @@ int main(int argc, char **argv) {
     else if (strcmp(argv[i], "--max") == 0 && i + 1 < argc) max = atoi(argv[++i]);
     else if (strcmp(argv[i], "--csv") == 0 && i + 1 < argc) csv_path = argv[++i];
     else if (strcmp(argv[i], "--kd") == 0) methods_run = KD_METHODS;
+    else if (strcmp(argv[i], "--peers") == 0) methods_run = PEER_METHODS;
     else if (argv[i][0] != '-' && nscenes < 64) scenes[nscenes++] = argv[i];
     else return fprintf(stderr, "bench_ondemand: unknown option %s\n", argv[i]), 2;
   }
@@ -390,7 +409,8 @@ int main(int argc, char **argv) {
   if (strcmp(argv[1], "table") == 0 && methods_run == BVH_METHODS) methods_run = TABLE1_METHODS;
   if (strcmp(argv[1], "table") == 0) rc = table(nscenes, scenes, runs, size, ao, csv);
   else if (strcmp(argv[1], "sweep") == 0) rc = sweep(runs, size, max, csv);
-  else if (strcmp(argv[1], "collide") == 0) rc = (methods_run = COLLIDE_METHODS, collide(nscenes, scenes, runs, csv));
+  else if (strcmp(argv[1], "collide") == 0)
+    rc = (methods_run = methods_run == PEER_METHODS ? PEER_METHODS : COLLIDE_METHODS, collide(nscenes, scenes, runs, csv));
   else if (strcmp(argv[1], "steps") == 0) rc = steps(nscenes, scenes, size);
   else rc = (fprintf(stderr, "bench_ondemand: unknown experiment %s\n", argv[1]), 2);
   if (csv) fclose(csv);

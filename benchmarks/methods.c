@@ -6,7 +6,8 @@
 #include <string.h>
 
 const char *const lt_bench_method_names[LT_BENCH_METHODS] = {
-    "full", "requested", "speculative", "lbvh", "kd-full", "kd-requested", "kd-speculative", "embree", "embree-low", "qbvh"};
+    "full", "requested", "speculative", "lbvh", "kd-full", "kd-requested", "kd-speculative", "embree", "embree-low", "qbvh",
+    "requested-morton", "speculative-morton"};
 
 lt_context *lt_bench_native_context(void) {
   static lt_context *ctx;
@@ -44,7 +45,8 @@ lt_status lt_bench_build_and_trace(const lt_scene *scene, int method, const lt_b
 
 lt_structure_config lt_bench_method_config(int method) {
   int kd = method >= LT_BENCH_KD_FULL && method <= LT_BENCH_KD_SPECULATIVE;
-  int mode = kd ? method - LT_BENCH_KD_FULL : method;
+  int morton = method == LT_BENCH_REQUESTED_MORTON || method == LT_BENCH_SPECULATIVE_MORTON;
+  int mode = kd ? method - LT_BENCH_KD_FULL : morton ? method - LT_BENCH_REQUESTED_MORTON + LT_BENCH_REQUESTED : method;
   lt_build_mode build = mode == LT_BENCH_REQUESTED     ? LT_BUILD_REQUESTED
                         : mode == LT_BENCH_SPECULATIVE ? LT_BUILD_SPECULATIVE
                                                        : LT_BUILD_FULL;
@@ -54,5 +56,6 @@ lt_structure_config lt_bench_method_config(int method) {
                                                      : LT_STRUCTURE_BVH;
   lt_structure_config config = lt_structure_config_default(kind);
   config.build = build;
+  if (morton) config.bvh_top = LT_BVH_TOP_MORTON;
   return config;
 }

@@ -1,7 +1,8 @@
 /* The methods the benchmarks compare: the SAH BVH built in full, on request or speculatively,
  * the LBVH, the SAH kd-tree in the same three modes, and (where a benchmark has it) Embree with
  * its default build and with its low-quality (Morton) build; last, the QBVH (built in full on the
- * host from the SAH BVH: the fastest layout to trace a finished tree). */
+ * host from the SAH BVH: the fastest layout to trace a finished tree); then the on-demand BVH
+ * with its Morton top (requested, speculative). */
 #ifndef LT_BENCH_METHODS_H
 #define LT_BENCH_METHODS_H
 
@@ -18,6 +19,8 @@ enum {
   LT_BENCH_EMBREE,
   LT_BENCH_EMBREE_LOW,
   LT_BENCH_QBVH,
+  LT_BENCH_REQUESTED_MORTON,   /* the BVH on request with its Morton top (--top morton) */
+  LT_BENCH_SPECULATIVE_MORTON, /* speculatively with its Morton top */
   LT_BENCH_METHODS
 };
 

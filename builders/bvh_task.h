@@ -7,6 +7,7 @@
 #ifndef LT_BVH_TASK_H
 #define LT_BVH_TASK_H
 
+#include "builders/bvh_morton.h"
 #include "builders/sah_bins.h"
 #include "device/heap.h"
 #include "device/pool.h"
@@ -45,7 +46,8 @@
   X(LT_BVH_STAT_LEAVES, LT_STAT_NONE) /* leaves made, counted into nodes_built */ \
   X(LT_BVH_STAT_SORT_OPS, LT_STAT_SORT_OPS) /* primitives binned or partitioned */ \
   X(LT_BVH_STAT_STEPS, LT_STAT_TRAVERSAL_STEPS) /* node visits */ \
-  X(LT_BVH_STAT_TESTS, LT_STAT_INTERSECTIONS) /* ray-triangle tests */
+  X(LT_BVH_STAT_TESTS, LT_STAT_INTERSECTIONS) /* ray-triangle tests */ \
+  X(LT_BVH_STAT_MORTON, LT_STAT_MORTON_NODES) /* nodes split by Morton code */
 
 enum {
 #define LT_BVH_STAT_ENUM(id, stat) id,
@@ -68,9 +70,13 @@ typedef struct lt_bvh_build {
   LT_GLOBAL lt_i32 *slabs;       /* slab_count bin slabs */
   LT_GLOBAL lt_i32 *slab_used;
   LT_GLOBAL lt_u32 *counters;    /* LT_BVH_STAT_COUNT per work-group */
+  LT_GLOBAL const lt_u32 *codes; /* Morton top: per position, the sorted Morton codes */
+  LT_GLOBAL const lt_v4 *block_boxes; /* Morton top: the pyramid of block boxes (bvh_morton.h) */
   lt_heap node_heap;             /* hands out nodes */
   lt_i32 task_kind;              /* the number the running workload gave these tasks */
   lt_i32 slab_count, max_leaf, bins;
+  lt_i32 morton_above; /* a node of more primitives is split by Morton code (none: the count) */
+  lt_i32 morton_blocks; /* boxes at the pyramid's bottom level */
   float traversal_cost, intersection_cost;
 } lt_bvh_build;
 
@@ -87,11 +93,15 @@ typedef struct lt_bvh_build {
   X(BUF, lt_i32, V.slabs, slabs)                       \
   X(BUF, lt_i32, V.slab_used, slab_used)               \
   X(BUF, lt_u32, V.counters, counters)                 \
+  X(BUF, lt_u32, V.codes, codes)                       \
+  X(BUF, lt_v4, V.block_boxes, block_boxes)            \
   LT_HEAP_ARGS(X, V.node_heap, node_heap)              \
   X(VAL, lt_i32, V.task_kind, task_kind)               \
   X(VAL, lt_i32, V.slab_count, slab_count)             \
   X(VAL, lt_i32, V.max_leaf, max_leaf)                 \
   X(VAL, lt_i32, V.bins, bins)                         \
+  X(VAL, lt_i32, V.morton_above, morton_above)         \
+  X(VAL, lt_i32, V.morton_blocks, morton_blocks)       \
   X(VAL, float, V.traversal_cost, traversal_cost)      \
   X(VAL, float, V.intersection_cost, intersection_cost)
 
@@ -120,6 +130,13 @@ LT_DEVICE void lt_bvh_leaf_refs(const lt_bvh_build *b, lt_i32 depth, lt_i32 begi
     for (lt_i32 i = begin; i < end; i++) b->index[i] = b->scratch[i];
 }
 
+/* Whether the node over [begin, end) at `depth` is one of the Morton top's: more than
+ * morton_above primitives whose sorted codes differ (a node whose primitives all share a code is
+ * left to the SAH), clear of the depth bound. Only Morton nodes lie above one. */
+LT_DEVICE int lt_bvh_is_morton(const lt_bvh_build *b, lt_i32 begin, lt_i32 end, lt_i32 depth) {
+  return end - begin > b->morton_above && depth < LT_BVH_MAX_DEPTH - 2 && b->codes[begin] != b->codes[end - 1];
+}
+
 /* Inserts the task that will build child `side` of node `node` over [begin, end). */
 LT_DEVICE void lt_bvh_spawn(const lt_bvh_build *b, lt_i32 node, int side, lt_i32 begin, lt_i32 end, lt_i32 depth,
                             const lt_box *bounds) {
@@ -137,7 +154,7 @@ LT_DEVICE void lt_bvh_spawn(const lt_bvh_build *b, lt_i32 node, int side, lt_i32
     return;
   }
   LT_GLOBAL lt_task *task = &b->pool.tasks[slot];
-  task->phase = count <= LT_BVH_ONE_GO ? LT_BVH_SMALL : LT_BVH_INIT;
+  task->phase = count <= LT_BVH_ONE_GO || lt_bvh_is_morton(b, begin, end, depth) ? LT_BVH_SMALL : LT_BVH_INIT;
   lt_store_box(task->work + W_BOUNDS, bounds);
   lt_bvh_set_child(n, side, bounds, lt_bvh_unbuilt_link(slot), 0);
   lt_pool_publish(&b->pool, slot);
@@ -260,10 +277,20 @@ LT_DEVICE void lt_slab_grow_box(LT_GLOBAL lt_i32 *slab, int i, const lt_box *box
  * larger one that found no free bin slab): bins it (a sample of a large one), prices the
  * splits, notes each primitive's side while bounding both sides, and partitions in order
  * into the other array of the ping-pong. Returns 0 when the node is a leaf; else the split,
- * with exact boxes and counts, and its middle in *mid. */
+ * with exact boxes and counts, and its middle in *mid. A node of the Morton top
+ * (lt_bvh_is_morton) splits its sorted range by code instead and moves nothing: the
+ * host wrote the sorted order into both arrays of the ping-pong, and only Morton nodes lie
+ * above, so both still hold it wherever the SAH below takes over. */
 LT_DEVICE int lt_bvh_split_small(const lt_bvh_build *b, lt_i32 begin, lt_i32 end, lt_i32 depth, const lt_box *bounds,
                                  lt_split *s, lt_i32 *mid) {
   lt_i32 n = end - begin;
+  if (lt_bvh_is_morton(b, begin, end, depth)) {
+    *mid = lt_morton_split(b->codes, begin, end - 1);
+    s->left = lt_morton_bounds(b->prim_boxes, b->index, b->block_boxes, b->morton_blocks, begin, *mid);
+    s->right = lt_morton_bounds(b->prim_boxes, b->index, b->block_boxes, b->morton_blocks, *mid, end);
+    lt_bvh_count(b, LT_BVH_STAT_MORTON, 1);
+    return 1;
+  }
   LT_GLOBAL lt_i32 *src = lt_bvh_refs(b, depth), *dst = lt_bvh_refs(b, depth + 1);
   lt_bins bins;
   lt_bins_clear(&bins);

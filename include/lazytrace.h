@@ -267,6 +267,9 @@ typedef struct lt_structure_config {
                                 1 - alpha of the cells; default 0.995 */
   int irgrid_expansion_passes; /* irregular grid: LT_IRGRID_PASSES(n) for n passes; default 3 */
   int bvh_builder;             /* escape-index BVH: LT_BVH_BUILDER_*; default SAH */
+  int bvh_top;                 /* BVH: LT_BVH_TOP_*; default SAH */
+  int bvh_morton_above;        /* BVH with the Morton top: nodes of more triangles are split by
+                                  Morton code, smaller ones by SAH; default 2048 */
 } lt_structure_config;
 
 /* The kd-tree's choices (0 in a config: the default). Traversal: front to back with a stack, or
@@ -288,6 +291,10 @@ enum { LT_IRGRID_MERGE_ON = 1, LT_IRGRID_MERGE_OFF, LT_IRGRID_MERGE_TOP };
  * of Thrane and Simonsen's comparison, Kay-Kajiya (spatial median of the longest axis) and
  * Goldsmith-Salmon (insertion by surface-area cost, best of 15 shuffled orders, fixed seed). */
 enum { LT_BVH_BUILDER_SAH = 1, LT_BVH_BUILDER_KAY_KAJIYA, LT_BVH_BUILDER_GOLDSMITH_SALMON };
+/* The BVH's top levels (0 in a config: the default): binned SAH all the way, or, for scenes
+ * rebuilt every frame, the triangles sorted by Morton code once and the nodes of more than
+ * bvh_morton_above triangles split by code (HLBVH applied on demand), SAH below. */
+enum { LT_BVH_TOP_SAH = 1, LT_BVH_TOP_MORTON };
 
 /* The defaults of a structure, every field filled in. */
 lt_structure_config lt_structure_config_default(lt_structure_kind kind);

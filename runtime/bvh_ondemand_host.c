@@ -2,8 +2,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "builders/host/morton.h"
 #include "kernels/bvh_ondemand.h"
 #include "kernels/native_kernels.h"
+#include "runtime/context_internal.h"
 #include "runtime/error.h"
 #include "runtime/bvh_ondemand_host.h"
 #include "runtime/kernel_args_host.h"
@@ -19,13 +21,61 @@ static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, in
                         int setup);
 static lt_status read_counters(lt__ondemand *od, lt_stats *stats);
 
+/* A per-frame array that a scene rebuilt every frame would otherwise fault in again every frame:
+ * on native, host memory kept on the context (taken here, given back at release); on OpenCL a
+ * device buffer like any other. Its contents are undefined. */
+static lt_status per_frame_buffer(lt__ondemand *od, int slot, lt__buffer *buffer, size_t bytes) {
+  lt_context *ctx = od->ctx;
+  if (ctx->kind != LT_DEVICE_NATIVE) return lt__buffer_create(ctx, buffer, bytes, NULL, LT_BUFFER_UNINIT);
+  void *host = lt__context_take(ctx, slot, bytes, &od->kept_bytes[slot]);
+  if (!host) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a %zu-byte array", bytes);
+  lt_status status = lt__buffer_wrap(ctx, buffer, host, bytes);
+  if (status) lt__context_give(ctx, slot, host, od->kept_bytes[slot]);
+  else od->kept[slot] = host;
+  return status;
+}
+
+/* The Morton top's buffers: the triangles in code order go into both index and scratch (the
+ * partitions' ping-pong, see builders/bvh_task.h), beside the sorted codes and block boxes. The
+ * sort runs on one host thread per work-group, at most one per core. */
+static lt_status morton_order(lt__ondemand *od, const float *boxes, int *index) {
+  lt_context *ctx = od->ctx;
+  size_t n = (size_t)od->count, blocks = lt__morton_block_count(n);
+  od->morton_blocks = (od->count + LT_BVH_MORTON_BLOCK - 1) / LT_BVH_MORTON_BLOCK;
+  lt_status status = per_frame_buffer(od, LT__KEEP_CODES, &od->codes, n * 4);
+  if (!status) status = per_frame_buffer(od, LT__KEEP_BLOCKS, &od->block_boxes, blocks * 8 * sizeof(float));
+  if (status) return status;
+  uint32_t *codes = lt__buffer_begin_write(ctx, &od->codes);
+  float *block_boxes = lt__buffer_begin_write(ctx, &od->block_boxes);
+  int *scratch = lt__buffer_begin_write(ctx, &od->scratch);
+  int workers = lt_context_work_groups(ctx), cores = lt__native_threads();
+  lt__executor executor = {workers < cores ? workers : cores, lt__native_run};
+  size_t work_bytes;
+  void *work = lt__context_take(ctx, LT__KEEP_SORT, lt__morton_work_bytes(n), &work_bytes);
+  status = codes && block_boxes && scratch && work ? LT_OK
+                                                   : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a Morton order");
+  if (!status)
+    status =
+        lt__morton_order(boxes, n, &od->bounds, &executor, work, codes, (int32_t *)index, block_boxes, &od->sort_ops);
+  if (!status) memcpy(scratch, index, n * sizeof *index);
+  lt__context_give(ctx, LT__KEEP_SORT, work, work_bytes);
+  /* Always hand the staging copies back, whatever happened. */
+  lt_status uploaded = codes ? lt__buffer_end_write(ctx, &od->codes, codes) : LT_OK;
+  if (!status) status = uploaded;
+  uploaded = block_boxes ? lt__buffer_end_write(ctx, &od->block_boxes, block_boxes) : LT_OK;
+  if (!status) status = uploaded;
+  uploaded = scratch ? lt__buffer_end_write(ctx, &od->scratch, scratch) : LT_OK;
+  return status ? status : uploaded;
+}
+
 lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__sah_config *sah, int mode,
-                              int pool_capacity, int node_capacity, lt__ondemand *od) {
+                              int pool_capacity, int node_capacity, int morton_above, lt__ondemand *od) {
   memset(od, 0, sizeof *od);
   od->ctx = ctx;
   od->count = (int)lt_scene_triangle_count(scene);
   od->slab_count = lt__ondemand_slab_count > 0 ? lt__ondemand_slab_count : 0;
   od->sah = *sah;
+  od->morton_above = morton_above > 0 && morton_above < od->count ? morton_above : od->count;
   if (sah->bins > LT_MAX_BINS) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "at most %d SAH bins", LT_MAX_BINS);
   /* Device buffers: the scene's triangles as they are (no copy on native), their boxes,
    * references, partition room, nodes, bin slabs, counters. */
@@ -34,14 +84,16 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
   lt_status status = lt__pool_create(ctx, &config, mode, &od->pool);
   if (!status) status = lt__heap_create(ctx, &od->node_heap, node_capacity);
   if (!status) status = lt__buffer_wrap(ctx, &od->verts, lt_scene_triangles(scene), n * 9 * sizeof(float));
-  if (!status) status = lt__buffer_create(ctx, &od->prim_boxes, n * 8 * sizeof(float), NULL, LT_BUFFER_UNINIT);
-  if (!status) status = lt__buffer_create(ctx, &od->index, n * 4, NULL, LT_BUFFER_UNINIT);
+  if (!status) status = per_frame_buffer(od, LT__KEEP_BOXES, &od->prim_boxes, n * 8 * sizeof(float));
+  if (!status) status = per_frame_buffer(od, LT__KEEP_INDEX, &od->index, n * 4);
+  if (!status) status = per_frame_buffer(od, LT__KEEP_SCRATCH, &od->scratch, n * 4);
   if (!status) {
     float *boxes = lt__buffer_begin_write(ctx, &od->prim_boxes);
     int *index = lt__buffer_begin_write(ctx, &od->index);
     status = boxes && index ? LT_OK : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for %zu triangles", n);
     if (!status) status = lt__triangle_boxes(scene, boxes, &od->bounds);
-    for (int i = 0; !status && i < od->count; i++) index[i] = i;
+    if (!status && od->morton_above < od->count) status = morton_order(od, boxes, index);
+    for (int i = 0; !status && od->morton_above == od->count && i < od->count; i++) index[i] = i;
     /* Always hand the staging copies back (OpenCL frees them), whatever happened. */
     lt_status uploaded = boxes ? lt__buffer_end_write(ctx, &od->prim_boxes, boxes) : LT_OK;
     if (!status) status = uploaded;
@@ -49,7 +101,8 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
     if (!status) status = uploaded;
   }
   if (!status) status = lt__buffer_create(ctx, &od->side, n * 4, NULL, LT_BUFFER_UNINIT);
-  if (!status) status = lt__buffer_create(ctx, &od->scratch, n * 4, NULL, LT_BUFFER_UNINIT);
+  if (!status && od->morton_above == od->count) status = lt__buffer_create(ctx, &od->codes, 16, NULL, 0);
+  if (!status && od->morton_above == od->count) status = lt__buffer_create(ctx, &od->block_boxes, 32, NULL, 0);
   if (!status) status = lt__buffer_create(ctx, &od->chunk_left, n * 4, NULL, LT_BUFFER_UNINIT);
   if (!status)
     status = lt__buffer_create(ctx, &od->nodes, (size_t)node_capacity * sizeof(lt_bvh_node), NULL, LT_BUFFER_UNINIT);
@@ -80,8 +133,11 @@ void lt__ondemand_release(lt__ondemand *od) {
   lt__pool_release(&od->pool);
   lt__heap_release(&od->node_heap);
   lt__buffer *buffers[] = {&od->verts, &od->prim_boxes, &od->side,  &od->index,   &od->scratch,
-                           &od->chunk_left, &od->nodes, &od->slabs, &od->slab_used, &od->counters};
+                           &od->chunk_left, &od->nodes, &od->slabs, &od->slab_used, &od->counters,
+                           &od->codes,      &od->block_boxes};
   for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++) lt__buffer_release(buffers[i]);
+  for (int slot = 0; slot < 8; slot++)
+    if (od->kept[slot]) lt__context_give(od->ctx, slot, od->kept[slot], od->kept_bytes[slot]), od->kept[slot] = NULL;
 }
 
 /* The kernel's arguments from its one list (kernels/bvh_ondemand.h). */
@@ -98,6 +154,8 @@ static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, in
   args.verts = &od->verts, args.prim_boxes = &od->prim_boxes, args.side = &od->side, args.index = &od->index;
   args.scratch = &od->scratch, args.chunk_left = &od->chunk_left, args.nodes = &od->nodes;
   args.slabs = &od->slabs, args.slab_used = &od->slab_used, args.counters = &od->counters;
+  args.codes = &od->codes, args.block_boxes = &od->block_boxes;
+  args.morton_above = od->morton_above, args.morton_blocks = od->morton_blocks;
   args.task_kind = 0; /* the kernel numbers its own task kinds */
   args.slab_count = od->slab_count, args.max_leaf = od->sah.max_leaf_size, args.bins = od->sah.bins;
   args.traversal_cost = od->sah.traversal_cost, args.intersection_cost = od->sah.intersection_cost;
@@ -179,5 +237,5 @@ double lt__ondemand_bytes(const lt__ondemand *od, double *node_bytes, double *re
   *pool_bytes = (double)(od->pool.headers.bytes + od->pool.tasks.bytes + od->pool.empty_cache.bytes +
                          od->pool.priority_cache.bytes + od->pool.control.bytes + od->slabs.bytes);
   return *node_bytes + *reference_bytes + *pool_bytes + od->prim_boxes.bytes + od->side.bytes +
-         od->scratch.bytes + od->chunk_left.bytes;
+         od->scratch.bytes + od->chunk_left.bytes + od->codes.bytes + od->block_boxes.bytes;
 }

@@ -12,10 +12,15 @@ typedef struct lt__ondemand {
   lt__pool pool;
   lt__heap node_heap;
   lt__buffer verts, prim_boxes, side, index, scratch, chunk_left, nodes, slabs, slab_used, counters;
+  lt__buffer codes, block_boxes; /* the Morton top's sorted codes and block boxes (16 bytes without one) */
   int count;          /* triangles */
   lt_box bounds;       /* the scene's */
   int slab_count;
+  int morton_above;   /* nodes of more triangles are split by Morton code; the count: none are */
+  int morton_blocks;  /* block boxes at the bottom of the pyramid */
   lt__sah_config sah;
+  void *kept[8];      /* native: arrays taken from the context (lt__context_take) by slot */
+  size_t kept_bytes[8];
   double leaves;      /* leaves built over all launches */
   double sort_ops;
 } lt__ondemand;
@@ -23,9 +28,11 @@ typedef struct lt__ondemand {
 /* Bin slabs of trees created from now on (default 64; see ondemand.c). */
 extern int lt__ondemand_slab_count;
 
-/* An empty tree over the scene: node 0 is a super-root whose left child is the root task. */
+/* An empty tree over the scene: node 0 is a super-root whose left child is the root task. With
+ * morton_above > 0 the triangles are sorted by Morton code first, and nodes of more than
+ * morton_above triangles are split by code (builders/bvh_morton.h); 0 keeps the SAH top. */
 lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__sah_config *sah, int mode,
-                              int pool_capacity, int node_capacity, lt__ondemand *od);
+                              int pool_capacity, int node_capacity, int morton_above, lt__ondemand *od);
 void lt__ondemand_release(lt__ondemand *od);
 /* One launch: traces count rays (none is fine: a full build then builds everything) and writes
  * hits; speculate says whether work-groups without rays build unrequested nodes. Adds the

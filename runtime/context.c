@@ -58,7 +58,30 @@ void lt_context_destroy(lt_context *ctx) {
   if (!ctx) return;
   lt__opencl_close(ctx);
   free(ctx->build_log);
+  for (size_t i = 0; i < sizeof ctx->kept / sizeof ctx->kept[0]; i++) free(ctx->kept[i].host);
   free(ctx);
+}
+
+void *lt__context_take(lt_context *ctx, int slot, size_t bytes, size_t *capacity) {
+  void *host = ctx->kept[slot].host;
+  *capacity = ctx->kept[slot].bytes;
+  ctx->kept[slot].host = NULL, ctx->kept[slot].bytes = 0;
+  if (host && *capacity >= bytes) return host;
+  free(host);
+  *capacity = (bytes + 15) / 16 * 16;
+  host = aligned_alloc(16, *capacity > 0 ? *capacity : 16);
+  if (!host) *capacity = 0;
+  return host;
+}
+
+void lt__context_give(lt_context *ctx, int slot, void *host, size_t capacity) {
+  if (!host) return;
+  if (ctx->kept[slot].bytes > capacity) {
+    free(host);
+    return;
+  }
+  free(ctx->kept[slot].host);
+  ctx->kept[slot].host = host, ctx->kept[slot].bytes = capacity;
 }
 
 const char *lt_context_device_name(const lt_context *ctx) { return ctx->name; }

@@ -29,7 +29,27 @@ struct lt_context {
   cl_command_queue queue;
   cl_program program;
   lt__kernel kernels[LT__MAX_KERNELS]; /* created on first use, by entry-point name */
+
+  /* Host arrays kept between structures (lt__context_take), one per slot. */
+  struct {
+    void *host;
+    size_t bytes;
+  } kept[8];
 };
+
+/* What the kept arrays hold: the on-demand BVH's per-frame arrays on the native backend, and the
+ * Morton sort's working memory. */
+enum { LT__KEEP_SORT, LT__KEEP_BOXES, LT__KEEP_INDEX, LT__KEEP_SCRATCH, LT__KEEP_CODES, LT__KEEP_BLOCKS };
+
+/* Host memory of at least `bytes` (16-byte aligned) for a structure that rebuilds every frame:
+ * the array last given back to this slot when it is large enough, so that its pages are mapped
+ * already (a fresh array of hundreds of megabytes faults in every page, every frame), else a new
+ * one. *capacity says how large it is. NULL when out of memory. The caller owns it until it gives
+ * it back with lt__context_give; a second structure alive at the same time gets a new array. */
+void *lt__context_take(lt_context *ctx, int slot, size_t bytes, size_t *capacity);
+/* Keeps `host` (capacity bytes, from lt__context_take) in the slot for the next taker, freeing
+ * the smaller of it and what the slot held; freed with the context. */
+void lt__context_give(lt_context *ctx, int slot, void *host, size_t capacity);
 
 /* OpenCL backend (runtime/opencl.c). */
 lt_status lt__opencl_open(lt_context *ctx, int index);

@@ -42,6 +42,8 @@ static lt_structure_config resolve(const lt_structure_config *config, const lt__
   if (c.irgrid_merge_alpha <= 0) c.irgrid_merge_alpha = d.irgrid_merge_alpha;
   if (c.irgrid_expansion_passes <= 0) c.irgrid_expansion_passes = d.irgrid_expansion_passes;
   if (c.bvh_builder <= 0) c.bvh_builder = d.bvh_builder;
+  if (c.bvh_top <= 0) c.bvh_top = d.bvh_top;
+  if (c.bvh_morton_above <= 0) c.bvh_morton_above = d.bvh_morton_above;
   return c;
 }
 
@@ -109,6 +111,9 @@ lt_status lt_structure_create(lt_context *ctx, const lt_scene *scene, const lt_s
   if ((unsigned)config->bvh_builder > LT_BVH_BUILDER_GOLDSMITH_SALMON)
     return lt__fail(LT_ERROR_INVALID_ARGUMENT, "bad BVH builder %d: see LT_BVH_BUILDER_* in lazytrace.h",
                     config->bvh_builder);
+  if ((unsigned)config->bvh_top > LT_BVH_TOP_MORTON || config->bvh_morton_above < 0)
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT, "bad BVH top %d (see LT_BVH_TOP_* in lazytrace.h) or Morton bound %d",
+                    config->bvh_top, config->bvh_morton_above);
   if ((unsigned)config->kd_traversal > LT_KD_TRAVERSAL_BACKTRACK || (unsigned)config->kd_split > LT_KD_SPLIT_SWEEP ||
       (unsigned)config->kd_clip > LT_KD_CLIP_ON)
     return lt__fail(LT_ERROR_INVALID_ARGUMENT, "bad kd-tree choice (traversal %d, split %d, clip %d): see LT_KD_* in lazytrace.h",

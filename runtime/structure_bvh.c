@@ -44,9 +44,12 @@ static lt_status start(lt_structure *s, lt_stats *stats) {
    * the kernel warm-up inside it is compile time and is taken out. */
   double begin = lt_now_ms(), compile = s->ctx->compile_ms;
   int pool_mode = (int)mode_of(s) - LT_BUILD_FULL; /* LT_POOL_FULL, _REQUESTED, _SPECULATIVE */
+  int morton_above = s->config.bvh_top == LT_BVH_TOP_MORTON ? s->config.bvh_morton_above : 0;
   lt_status status = lt__ondemand_create(s->ctx, s->scene, &b->sah, pool_mode, b->pool_capacity, b->node_capacity,
-                                         &b->od);
+                                         morton_above, &b->od);
   if (!status) b->live = 1;
+  /* The Morton top's sort (the only sorting so far: the set-up launch only spawns the root). */
+  if (!status) lt__stats_add(stats, LT_STAT_SORT_OPS, b->od.sort_ops);
   if (!status && mode_of(s) == LT_BUILD_FULL) status = lt__ondemand_launch(&b->od, NULL, 0, 0, NULL, 0, stats);
   lt__stats_add(stats, LT_STAT_BUILD_MS, lt_now_ms() - begin - (s->ctx->compile_ms - compile));
   return status;
@@ -141,6 +144,10 @@ static const char *const kernels[] = {"lt_bvh_ondemand", "lt_bvh_trace_index", N
 static const lt__param params[] = {
     LT__PARAM_INT("--leaf-size", max_leaf_size, 1, 1 << 24, "most triangles a leaf holds without SAH asking"),
     LT__PARAM_INT("--bins", sah_bins, 2, LT_MAX_BINS, "SAH bins per axis"),
+    LT__PARAM_CHOICE("--top", bvh_top, "sah|morton",
+                     "top levels: binned SAH, or split by Morton code after one sort (for scenes rebuilt every frame)"),
+    LT__PARAM_INT("--morton-above", bvh_morton_above, 16, 1 << 30,
+                  "with --top morton: nodes of more triangles split by Morton code, smaller ones by SAH"),
     {0, 0, 0, 0, 0, 0, 0},
 };
 
@@ -150,7 +157,8 @@ const lt__structure_class lt__structure_bvh = {
     .params = params,
     .modes = 1u << LT_BUILD_FULL | 1u << LT_BUILD_REQUESTED | 1u << LT_BUILD_SPECULATIVE,
     .defaults = {.kind = LT_STRUCTURE_BVH, .build = LT_BUILD_SPECULATIVE, .max_leaf_size = 16, .sah_bins = 32,
-                 .traversal_cost = 1.0f, .pool_capacity = 0, .intersect = LT_INTERSECT_WATERTIGHT, .grid_density = 3.0f},
+                 .traversal_cost = 1.0f, .pool_capacity = 0, .intersect = LT_INTERSECT_WATERTIGHT, .grid_density = 3.0f,
+                 .bvh_top = LT_BVH_TOP_SAH, .bvh_morton_above = 2048},
     .state_size = sizeof(bvh_state),
     .create = create,
     .trace = trace,

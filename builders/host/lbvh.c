@@ -2,6 +2,7 @@
  * Parallelism in the Construction of BVHs, Octrees, and k-d Trees", HPG 2012) inside clusters sharing
  * the top 12 code bits, binned SAH above them (HLBVH: Pantaleoni and Luebke 2010; pbrt-v3 4.3.3). */
 #include "builders/host/lbvh.h"
+#include "builders/host/morton.h"
 
 #include <float.h>
 #include <math.h>
@@ -95,24 +96,6 @@ static void set_child(lt_bvh_node *node, int side, const child *c) {
   lt_box x;
   for (int k = 0; k < 3; k++) x.lo[k] = c->bounds.lo[k], x.hi[k] = c->bounds.hi[k];
   lt_bvh_write_child(node, side, &x, c->link, c->count);
-}
-
-/* ---- Morton codes and their sort ---- */
-
-/* Moves the low 10 bits of v to every third bit of 30, so that three axes interleave. */
-static uint32_t spread_bits(uint32_t v) {
-  v = (v * 0x00010001u) & 0xFF0000FFu;
-  v = (v * 0x00000101u) & 0x0F00F00Fu;
-  v = (v * 0x00000011u) & 0xC30C30C3u;
-  v = (v * 0x00000005u) & 0x49249249u;
-  return v;
-}
-
-/* A centroid coordinate as one of 1024 cells; written so that NaN lands in cell 0. */
-static uint32_t quantize(float c, float lo, float scale) {
-  float t = (c - lo) * scale;
-  if (!(t > 0.0f)) return 0;
-  return t >= 1023.0f ? 1023u : (uint32_t)t;
 }
 
 /* ---- Karras hierarchy inside a cluster ---- */
@@ -366,9 +349,9 @@ static void codes_chunk(void *ctx, int chunk) {
   lbvh_build *w = ctx;
   for (int i = chunk * CHUNK_TRIS; i < chunk_end(w, chunk); i++) {
     const box *pb = &w->prim_box[i];
-    uint32_t q[3];
-    for (int k = 0; k < 3; k++) q[k] = quantize(0.5f * (pb->lo[k] + pb->hi[k]), w->cbounds.lo[k], w->scale[k]);
-    uint32_t code = spread_bits(q[0]) << 2 | spread_bits(q[1]) << 1 | spread_bits(q[2]);
+    float centre[3];
+    for (int k = 0; k < 3; k++) centre[k] = 0.5f * (pb->lo[k] + pb->hi[k]);
+    uint32_t code = lt__morton_code(centre, w->cbounds.lo, w->scale);
     w->keys[i] = (uint64_t)code << 32 | (uint32_t)i;
   }
 }

@@ -30,7 +30,7 @@ class StructureConfig(ctypes.Structure):
                 ("kd_clip", c_int), ("irgrid_top_density", c_float),
                 ("irgrid_cell_density", c_float), ("irgrid_merge", c_int),
                 ("irgrid_merge_alpha", c_float), ("irgrid_expansion_passes", c_int),
-                ("bvh_builder", c_int)]
+                ("bvh_builder", c_int), ("bvh_top", c_int), ("bvh_morton_above", c_int)]
 
 
 def _candidates():
