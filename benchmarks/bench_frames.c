@@ -3,7 +3,7 @@
  * the animation for primary rays, primary + AO rays and primary + diffuse rays, with Embree 3's
  * low-quality (Morton) and default builds beside lazytrace's methods:
  *
- *   bench_frames [--runs R] [--size N] [--frames F] [--samples S] [--csv FILE] SCENE...
+ *   bench_frames [--runs R] [--size N] [--frames F] [--samples S] [--methods all|peers] [--csv FILE] SCENE...
  *
  * SCENE is anything lt_scene_load takes that moves (explode:BASE, a scene file with keyframes).
  * Every frame moves the scene (lt_scene_set_time), makes its rays (camera rays, then AO or
@@ -27,11 +27,39 @@
 #define METHODS LT_BENCH_METHODS
 enum { FULL = LT_BENCH_FULL, EMBREE = LT_BENCH_EMBREE, EMBREE_LOW = LT_BENCH_EMBREE_LOW };
 
-/* The table's columns, in order. */
-static const int columns[] = {LT_BENCH_FULL,         LT_BENCH_REQUESTED,   LT_BENCH_SPECULATIVE,
-                              LT_BENCH_KD_FULL,      LT_BENCH_KD_REQUESTED, LT_BENCH_KD_SPECULATIVE,
-                              LT_BENCH_LBVH,         LT_BENCH_EMBREE_LOW,   LT_BENCH_EMBREE};
-#define COLUMNS (int)(sizeof columns / sizeof *columns)
+/* The table's columns, in order: every method, or (--methods peers) the full BVH (whose hits
+ * are the check), the per-frame peers and the on-demand BVH with either top. */
+static const int all_columns[] = {LT_BENCH_FULL,    LT_BENCH_REQUESTED,    LT_BENCH_SPECULATIVE,
+                                  LT_BENCH_REQUESTED_MORTON, LT_BENCH_SPECULATIVE_MORTON,
+                                  LT_BENCH_KD_FULL, LT_BENCH_KD_REQUESTED, LT_BENCH_KD_SPECULATIVE,
+                                  LT_BENCH_LBVH,    LT_BENCH_EMBREE_LOW,   LT_BENCH_EMBREE};
+static const int peer_columns[] = {LT_BENCH_FULL, LT_BENCH_REQUESTED, LT_BENCH_SPECULATIVE, LT_BENCH_REQUESTED_MORTON,
+                                   LT_BENCH_SPECULATIVE_MORTON, LT_BENCH_LBVH, LT_BENCH_EMBREE_LOW};
+static const int *columns = all_columns;
+static int COLUMNS = (int)(sizeof all_columns / sizeof *all_columns);
+
+/* A column's heading. */
+static const char *column_name(int method) {
+  switch (method) {
+  case LT_BENCH_FULL: return "full BVH";
+  case LT_BENCH_REQUESTED: return "BVH_R";
+  case LT_BENCH_SPECULATIVE: return "BVH_A";
+  case LT_BENCH_REQUESTED_MORTON: return "BVH_R Morton top";
+  case LT_BENCH_SPECULATIVE_MORTON: return "BVH_A Morton top";
+  case LT_BENCH_KD_FULL: return "Kd";
+  case LT_BENCH_KD_REQUESTED: return "Kd_R";
+  case LT_BENCH_KD_SPECULATIVE: return "Kd_A";
+  case LT_BENCH_LBVH: return "LBVH";
+  case LT_BENCH_EMBREE_LOW: return "Embree low";
+  default: return "Embree default";
+  }
+}
+
+/* Whether a method builds on demand (the "best on-demand" column's candidates). */
+static int on_demand(int m) {
+  return m == LT_BENCH_REQUESTED || m == LT_BENCH_SPECULATIVE || m == LT_BENCH_REQUESTED_MORTON ||
+         m == LT_BENCH_SPECULATIVE_MORTON || m == LT_BENCH_KD_REQUESTED || m == LT_BENCH_KD_SPECULATIVE;
+}
 
 typedef enum { PRIMARY, AO, DIFFUSE, WORKLOADS } workload;
 static const char *const workload_names[WORKLOADS] = {"primary", "primary + AO", "primary + diffuse"};
@@ -141,17 +169,23 @@ int main(int argc, char **argv) {
     else if (strcmp(o, "--size") == 0) size = atoi(v);
     else if (strcmp(o, "--frames") == 0) frames = atoi(v);
     else if (strcmp(o, "--samples") == 0) samples = atoi(v);
+    else if (strcmp(o, "--methods") == 0 && strcmp(v, "peers") == 0)
+      columns = peer_columns, COLUMNS = (int)(sizeof peer_columns / sizeof *peer_columns);
+    else if (strcmp(o, "--methods") == 0 && strcmp(v, "all") != 0) return fprintf(stderr, "--methods all|peers\n"), 2;
     else if (strcmp(o, "--csv") == 0 && !(csv = fopen(v, "w"))) return fprintf(stderr, "%s: cannot write\n", v), 1;
-    else if (strcmp(o, "--csv") != 0) return fprintf(stderr, "unknown option %s\n", o), 2;
+    else if (strcmp(o, "--csv") != 0 && strcmp(o, "--methods") != 0) return fprintf(stderr, "unknown option %s\n", o), 2;
   }
   if (first >= argc || runs < 1 || runs > MAX_RUNS || size < 1 || frames < 1 || samples < 1)
-    return fprintf(stderr, "usage: bench_frames [--runs 1-%d] [--size N] [--frames F] [--samples S] [--csv FILE] "
+    return fprintf(stderr, "usage: bench_frames [--runs 1-%d] [--size N] [--frames F] [--samples S] [--methods all|peers] [--csv FILE] "
                            "SCENE...\n", MAX_RUNS), 2;
   if (!lt_bench_native_context()) return fprintf(stderr, "%s\n", lt_last_error()), 1;
   if (csv) fprintf(csv, "scene,workload,method,ms_per_frame,build_ms_per_frame,nodes_per_frame\n");
 
-  printf("| scene, rays per frame | full BVH | BVH_R | BVH_A | Kd | Kd_R | Kd_A | LBVH | Embree low | Embree default |"
-         " best on-demand / Embree low |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  printf("| scene, rays per frame |");
+  for (int c = 0; c < COLUMNS; c++) printf(" %s |", column_name(columns[c]));
+  printf(" best on-demand / Embree low |\n|---|");
+  for (int c = 0; c <= COLUMNS; c++) printf("---:|");
+  printf("\n");
   for (int i = first; i < argc; i++) {
     lt_scene *scene;
     if (lt_scene_load(argv[i], &scene) != LT_OK) return fprintf(stderr, "%s\n", lt_last_error()), 1;
@@ -172,9 +206,7 @@ int main(int argc, char **argv) {
         double ms = f[m].ok ? per_frame(f[m].sum, runs, frames) : -1.0;
         if (ms >= 0) printf(" %.1f |", ms);
         else printf(" - |");
-        if (ms >= 0 && (m == LT_BENCH_REQUESTED || m == LT_BENCH_SPECULATIVE || m == LT_BENCH_KD_REQUESTED ||
-                        m == LT_BENCH_KD_SPECULATIVE) && ms < best)
-          best = ms;
+        if (ms >= 0 && on_demand(m) && ms < best) best = ms;
         if (csv && ms >= 0)
           fprintf(csv, "%s,%s,%s,%.2f,%.2f,%.0f\n", argv[i], workload_names[w], lt_bench_method_names[m], ms,
                   per_frame(f[m].build, runs, frames), f[m].nodes / frames);

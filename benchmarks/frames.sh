@@ -4,7 +4,7 @@
 # diffuse rays per pixel, lazytrace's BVH and kd-tree (full, requested, speculative) and LBVH
 # beside Embree 3's low-quality (Morton) and default builds; written to
 # docs/results/frames_table5.md and .csv.
-#   benchmarks/frames.sh [--runs R] [--size N] [--frames F] [--samples S]
+#   benchmarks/frames.sh [--runs R] [--size N] [--frames F] [--samples S] [--methods all|peers]
 #                        (defaults: 3 runs, 256x256, 8 frames, 8 samples)
 # Takes about 25 minutes on 2 cores.
 set -euo pipefail
@@ -29,7 +29,7 @@ scenes=(explode:house docs/scenes/burst.json)
   echo "  against the full BVH's on every frame"
   echo "- the machine was shared with other engineers' builds and tests while this ran: absolute"
   echo "  times are noisy, compare within a row"
-  echo "- best on-demand: the fastest of BVH_R, BVH_A, Kd_R and Kd_A"
+  echo "- best on-demand: the fastest of BVH_R, BVH_A (with the SAH or the Morton top), Kd_R and Kd_A"
   echo
   build/benchmarks/bench_frames "$@" --csv $R/frames_table5.csv "${scenes[@]}"
 } >$R/frames_table5.md
