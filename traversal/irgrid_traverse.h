@@ -30,6 +30,20 @@
  * it: just after a boundary the voxel left behind (kept in range by the widening) would
  * otherwise hold T at the boundary and the jump would gain nothing.
  *
+ * Two refinements make a round cheaper, and the argument above holds with each.
+ *  - A voxel u of Q may stand in any tested box that holds it instead of its own cell's: the
+ *    argument used only that u's box holds u, that its triangles were tested, and that T is at
+ *    most its far-face crossings. So after a boundary on axis b, the voxels of Q before the last
+ *    on b use the cover, a cell of the round before whose box held every voxel of the ranges
+ *    then (an integer test of the box against the ranges); these voxels lie in those ranges, so
+ *    they need no lookup and no test.
+ *  - A voxel u that is not the last of its range on some axis j leaves the ranges by W_u, the
+ *    least such widened exit: a voxel v with v_j = u_j is in a product of the walk only up to
+ *    W_u. If W_u is before B_u, the least of u's far-face crossings on the axes where it is last,
+ *    u bounds nothing: for v reached through u on an axis k beyond its range, v_k is entered at
+ *    or before W_u < B_u, below the far face on k, as above. The voxel left behind at a boundary
+ *    (kept in the ranges only by the widening) therefore no longer holds T near the boundary.
+ *
  * The stopping rule and the ranges are the uniform walk's; the cells of Q are tested once each
  * (a few recent ones are remembered, so a cell the walk meets again is not retested: retesting
  * would change nothing but the counts). */
@@ -121,7 +135,7 @@ LT_DEVICE int lt_irg_test_cell(const lt_irg_view *v, lt_irg_ray *q, lt_i32 cell,
     if (q->recent[i] == cell) return 0;
   q->recent[q->recent_next] = cell;
   q->recent_next = (q->recent_next + 1) & (LT_IRG_RECENT - 1);
-  (void)0;
+  c->traversal_steps++;
   LT_GLOBAL const lt_irg_cell *p = &v->cells[cell];
   for (lt_i32 i = p->begin; i < p->end; i++) {
     lt_i32 prim = v->refs[i];
@@ -296,9 +310,7 @@ LT_DEVICE int lt_irg_advance(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_
     }
     /* Skip every boundary before T. If the last voxel's cell holds all the ranges now, it
      * covers the voxels left behind by the next boundary. */
-    lt_irg_skip_axis(&q->w[0], &q->r, 0, T, widen);
-    lt_irg_skip_axis(&q->w[1], &q->r, 1, T, widen);
-    lt_irg_skip_axis(&q->w[2], &q->r, 2, T, widen);
+    for (int k = 0; k < 3; k++) lt_irg_skip_axis(&q->w[k], &q->r, k, T, widen);
     q->cover = lt_irg_box_holds_ranges(q, &v->cells[newest]) ? newest : -1;
     for (int k = 0; k < 3; k++) q->cover_exit[k] = ex[k];
 
