@@ -278,8 +278,10 @@ LT_DEVICE int lt_irg_advance(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_
     int lo[3] = {q->w[0].first, q->w[1].first, q->w[2].first};
     int hi[3] = {q->w[0].last, q->w[1].last, q->w[2].last};
     float T_cover = INFINITY, W = INFINITY;
+    int covered = 0;
     if (q->cover >= 0) {
-      /* (Each axis by a constant index, so that the compiler can keep the walk in registers.) */
+      /* (Each axis by a constant index rather than through cover_axis: measured a little
+       * cheaper.) */
       for (int k = 0; k < 3; k++) {
         const lt_grid_walk *w = &q->w[k];
         if (k != q->cover_axis) {
@@ -287,13 +289,12 @@ LT_DEVICE int lt_irg_advance(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_
         } else if (lo[k] < hi[k]) {
           W = w->first + 1 == w->last ? w->first_exit : lt_grid_widen(lt_grid_crossing(w, w->last), widen);
           lo[k] = hi[k];
-        } else {
-          T_cover = -INFINITY; /* nothing covered */
+          covered = 1;
         }
       }
       /* Covered voxels leave the ranges (at W at the latest) before the cover's box ends on
        * the other axes: then they bound nothing (the header says why). */
-      if (T_cover == -INFINITY || W < T_cover) T_cover = INFINITY;
+      if (!covered || W < T_cover) T_cover = INFINITY;
     }
     /* Test the cells of the other voxels, and find T, the earliest exit of their boxes (the
      * last voxel's cell and crossings are kept for the next cover). */
