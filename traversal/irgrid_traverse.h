@@ -30,6 +30,20 @@
  * it: just after a boundary the voxel left behind (kept in range by the widening) would
  * otherwise hold T at the boundary and the jump would gain nothing.
  *
+ * Two refinements make a round cheaper, and the argument above holds with each.
+ *  - A voxel u of Q may stand in any tested box that holds it instead of its own cell's: the
+ *    argument used only that u's box holds u, that its triangles were tested, and that T is at
+ *    most its far-face crossings. So after a boundary on axis b, the voxels of Q before the last
+ *    on b use the cover, a cell of the round before whose box held every voxel of the ranges
+ *    then (an integer test of the box against the ranges); these voxels lie in those ranges, so
+ *    they need no lookup and no test.
+ *  - A voxel u that is not the last of its range on some axis j leaves the ranges by W_u, the
+ *    least such widened exit: a voxel v with v_j = u_j is in a product of the walk only up to
+ *    W_u. If W_u is before B_u, the least of u's far-face crossings on the axes where it is last,
+ *    u bounds nothing: for v reached through u on an axis k beyond its range, v_k is entered at
+ *    or before W_u < B_u, below the far face on k, as above. The voxel left behind at a boundary
+ *    (kept in the ranges only by the widening) therefore no longer holds T near the boundary.
+ *
  * The stopping rule and the ranges are the uniform walk's; the cells of Q are tested once each
  * (a few recent ones are remembered, so a cell the walk meets again is not retested: retesting
  * would change nothing but the counts). */
@@ -65,14 +79,17 @@ typedef struct lt_irg_ray {
   lt_i32 state;
   lt_i32 recent[LT_IRG_RECENT];
   lt_i32 recent_next;
-  lt_i32 wait; /* the top cell it waits for, or -1 */
+  lt_i32 wait;          /* the top cell it waits for, or -1 */
+  lt_i32 cover;         /* a tested cell whose box holds every voxel before the last on cover_axis, or -1 */
+  lt_i32 cover_axis;    /* the axis of the boundary taken since cover was found */
+  float cover_exit[3];  /* where the ray crosses cover's far face on each axis (infinity if parallel) */
 } lt_irg_ray;
 
 LT_DEVICE void lt_irg_ray_start(lt_irg_ray *q, LT_GLOBAL const float *ray, int flags) {
   q->r = lt_ray_prepare(ray[0], ray[1], ray[2], ray[3], ray[4], ray[5], ray[6], ray[7]);
   q->r.flags = flags;
   q->hit.t = q->r.tmax, q->hit.u = q->hit.v = 0.0f, q->hit.prim = -1;
-  q->state = LT_IRG_RAY_START, q->wait = -1, q->recent_next = 0;
+  q->state = LT_IRG_RAY_START, q->wait = -1, q->recent_next = 0, q->cover = -1, q->cover_axis = 0;
   for (int i = 0; i < LT_IRG_RECENT; i++) q->recent[i] = -1;
 }
 
@@ -94,17 +111,22 @@ LT_DEVICE lt_i32 lt_irg_cell_at(const lt_irg_view *v, const lt_irg_ray *q, int u
   return lt_irg_lookup(v->top_map, v->sub_maps, v->fine_dims, v->shift, x[0], x[1], x[2]);
 }
 
-/* Where the ray leaves a cell's box through the far faces of the axes in mask (bit k for axis
- * k): the least of their crossings. */
-LT_DEVICE float lt_irg_exit(const lt_irg_ray *q, LT_GLOBAL const lt_irg_cell *cell, int mask) {
-  float t = INFINITY;
+/* Where the ray crosses a cell box's far face on axis k (infinity where it runs parallel). */
+LT_DEVICE float lt_irg_far_crossing(const lt_irg_ray *q, LT_GLOBAL const lt_irg_cell *cell, int k) {
+  const lt_grid_walk *w = &q->w[k];
+  if (w->sign == 0) return INFINITY;
+  return lt_grid_crossing(w, w->sign > 0 ? cell->hi[k] : w->axis.n - cell->lo[k]);
+}
+
+/* 1 when a cell's box holds every voxel of the ranges' product. */
+LT_DEVICE int lt_irg_box_holds_ranges(const lt_irg_ray *q, LT_GLOBAL const lt_irg_cell *cell) {
   for (int k = 0; k < 3; k++) {
     const lt_grid_walk *w = &q->w[k];
-    if (w->sign == 0 || !((mask >> k) & 1)) continue;
-    float c = lt_grid_crossing(w, w->sign > 0 ? cell->hi[k] : w->axis.n - cell->lo[k]);
-    t = c < t ? c : t;
+    int lo = lt_grid_cell_of(w, w->first), hi = lt_grid_cell_of(w, w->last);
+    if (w->sign < 0) lo = hi, hi = lt_grid_cell_of(w, w->first);
+    if (lo < cell->lo[k] || hi >= cell->hi[k]) return 0;
   }
-  return t;
+  return 1;
 }
 
 /* Tests a cell's triangles unless it was tested lately; 1 when an any-hit query is answered. */
@@ -153,7 +175,13 @@ LT_DEVICE void lt_irg_skip_axis(lt_grid_walk *w, const lt_ray_setup *r, int k, f
     w->last = u;
     if (u + 1 < n) w->next_entry = c1;
   } else {
+    /* Not moving: at most the voxels left whose widened exit is before T drop out. With two
+     * in the range, the first's widened exit is kept already. */
     if (u == w->first) return;
+    if (w->first + 1 == u) {
+      if (!(w->first_exit >= T)) w->first = u, w->first_exit = lt_grid_widen(u + 1 < n ? w->next_entry : lt_grid_crossing(w, u + 1), widen);
+      return;
+    }
     c0 = lt_grid_crossing(w, u);
   }
   int f = w->last;
@@ -183,6 +211,45 @@ LT_DEVICE int lt_irg_wait(const lt_irg_view *v, lt_irg_ray *q, int ux, int uy, i
   return 0;
 }
 
+/* Tests the cells of the voxels at travel indices lo .. hi (one tested lately is not tested
+ * again) and lowers T to the earliest exit of their boxes, each through the far faces of the
+ * axes on which its voxel is the last of the walk's range (the header says why that is
+ * enough). The cell of the voxel last on every axis goes to newest, its crossings to ex.
+ * Returns -1 to go on, 1 when an any-hit query is answered, 0 when a voxel is in a top cell
+ * not built (asked for; the ray waits, and what was tested stays). */
+LT_DEVICE int lt_irg_visit(const lt_irg_view *v, lt_irg_ray *q, const int *lo, const int *hi, int any_hit, int widen,
+                           lt_trace_counters *c, float *T, lt_i32 *newest, float *ex) {
+  for (int uz = lo[2]; uz <= hi[2]; uz++)
+    for (int uy = lo[1]; uy <= hi[1]; uy++)
+      for (int ux = lo[0]; ux <= hi[0]; ux++) {
+        lt_i32 cell = lt_irg_cell_at(v, q, ux, uy, uz);
+        if (cell < 0) return lt_irg_wait(v, q, ux, uy, uz, cell);
+        q->wait = -1;
+        if (lt_irg_test_cell(v, q, cell, any_hit, c)) {
+          q->state = LT_IRG_RAY_DONE;
+          return 1;
+        }
+        LT_GLOBAL const lt_irg_cell *p = &v->cells[cell];
+        int u[3] = {ux, uy, uz}, last[3] = {ux == q->w[0].last, uy == q->w[1].last, uz == q->w[2].last};
+        float e[3], B = INFINITY, W = INFINITY;
+        for (int k = 0; k < 3; k++) {
+          e[k] = last[k] ? lt_irg_far_crossing(q, p, k) : INFINITY;
+          B = e[k] < B ? e[k] : B;
+          if (!last[k]) {
+            const lt_grid_walk *w = &q->w[k];
+            float x = u[k] == w->first ? w->first_exit : lt_grid_widen(lt_grid_crossing(w, u[k] + 1), widen);
+            W = x < W ? x : W;
+          }
+        }
+        if (!(W < B)) *T = B < *T ? B : *T;
+        if (last[0] && last[1] && last[2]) {
+          *newest = cell;
+          for (int k = 0; k < 3; k++) ex[k] = e[k];
+        }
+      }
+  return -1;
+}
+
 /* Advances a ray; 1 when it is answered, 0 while it waits for a top cell (requested from the
  * pool). flags are the query flags. */
 LT_DEVICE int lt_irg_advance(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_trace_counters *c) {
@@ -203,33 +270,50 @@ LT_DEVICE int lt_irg_advance(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_
 
   int cap = 3 * (q->w[0].axis.n + q->w[1].axis.n + q->w[2].axis.n + 3);
   for (int step = 0; step < cap; step++) {
-    /* Test the cells of every voxel of the ranges' product (one tested lately is not tested
-     * again), and find T, the earliest exit of their boxes, each through the far faces of the
-     * axes on which its voxel is the last of the range (the header says why that is enough).
-     * A voxel in a top cell not built: ask the pool for it and wait; what was tested stays. */
-    float T = INFINITY;
-    for (int uz = q->w[2].first; uz <= q->w[2].last; uz++)
-      for (int uy = q->w[1].first; uy <= q->w[1].last; uy++)
-        for (int ux = q->w[0].first; ux <= q->w[0].last; ux++) {
-          lt_i32 cell = lt_irg_cell_at(v, q, ux, uy, uz);
-          if (cell < 0) return lt_irg_wait(v, q, ux, uy, uz, cell);
-          q->wait = -1;
-          if (lt_irg_test_cell(v, q, cell, any_hit, c)) {
-            q->state = LT_IRG_RAY_DONE;
-            return 1;
-          }
-          int mask = (ux == q->w[0].last) | (uy == q->w[1].last) << 1 | (uz == q->w[2].last) << 2;
-          float e = lt_irg_exit(q, &v->cells[cell], mask);
-          T = e < T ? e : T;
+    /* The voxels before the last on the axis of the boundary just taken lie in the box of the
+     * cover, a cell tested in the round before (when there is one): they need no lookup and no
+     * test, and bound T through the cover's far faces on the other axes, on each of which some
+     * of them is the last of its range. The header's argument holds with the cover's box in
+     * place of their own cells' boxes: it needs only a tested box that holds the voxel. */
+    int lo[3] = {q->w[0].first, q->w[1].first, q->w[2].first};
+    int hi[3] = {q->w[0].last, q->w[1].last, q->w[2].last};
+    float T_cover = INFINITY, W = INFINITY;
+    int covered = 0;
+    if (q->cover >= 0) {
+      /* (Each axis by a constant index rather than through cover_axis: measured a little
+       * cheaper.) */
+      for (int k = 0; k < 3; k++) {
+        const lt_grid_walk *w = &q->w[k];
+        if (k != q->cover_axis) {
+          T_cover = q->cover_exit[k] < T_cover ? q->cover_exit[k] : T_cover;
+        } else if (lo[k] < hi[k]) {
+          W = w->first + 1 == w->last ? w->first_exit : lt_grid_widen(lt_grid_crossing(w, w->last), widen);
+          lo[k] = hi[k];
+          covered = 1;
         }
+      }
+      /* Covered voxels leave the ranges (at W at the latest) before the cover's box ends on
+       * the other axes: then they bound nothing (the header says why). */
+      if (!covered || W < T_cover) T_cover = INFINITY;
+    }
+    /* Test the cells of the other voxels, and find T, the earliest exit of their boxes (the
+     * last voxel's cell and crossings are kept for the next cover). */
+    float T = INFINITY, ex[3] = {INFINITY, INFINITY, INFINITY};
+    lt_i32 newest = -1;
+    int r = lt_irg_visit(v, q, lo, hi, any_hit, widen, c, &T, &newest, ex);
+    if (r >= 0) return r;
+    T = T_cover < T ? T_cover : T;
     /* A hit before T ends the walk: every boundary left is at or after T (the uniform walk's
      * rule, taken before the skip that would only confirm it). */
     if (q->hit.prim >= 0 && q->hit.t < T) {
       q->state = LT_IRG_RAY_DONE;
       return 1;
     }
-    /* Skip every boundary before T. */
+    /* Skip every boundary before T. If the last voxel's cell holds all the ranges now, it
+     * covers the voxels left behind by the next boundary. */
     for (int k = 0; k < 3; k++) lt_irg_skip_axis(&q->w[k], &q->r, k, T, widen);
+    q->cover = lt_irg_box_holds_ranges(q, &v->cells[newest]) ? newest : -1;
+    for (int k = 0; k < 3; k++) q->cover_exit[k] = ex[k];
 
     /* The next boundary, and the uniform walk's rules for it. */
     int a = -1;
@@ -242,14 +326,17 @@ LT_DEVICE int lt_irg_advance(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_
       q->state = LT_IRG_RAY_DONE;
       return 1;
     }
-    lt_grid_walk *wa = &q->w[a];
-    wa->last++;
-    if (wa->last + 1 < wa->axis.n) wa->next_entry = lt_grid_crossing(wa, wa->last + 1);
+    q->cover_axis = a;
     for (int k = 0; k < 3; k++) {
       lt_grid_walk *w = &q->w[k];
+      if (k == a) {
+        w->last++;
+        if (w->last + 1 < w->axis.n) w->next_entry = lt_grid_crossing(w, w->last + 1);
+      }
       while (w->sign != 0 && w->first < w->last && !(w->first_exit >= entry)) {
         w->first++;
-        w->first_exit = lt_grid_widen(lt_grid_crossing(w, w->first + 1), widen);
+        int e = w->first + 1;
+        w->first_exit = lt_grid_widen(e == w->last + 1 && e < w->axis.n ? w->next_entry : lt_grid_crossing(w, e), widen);
       }
     }
   }
