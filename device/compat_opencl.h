@@ -73,61 +73,30 @@ LT_DEVICE int lt_v4_any_ge(float4 a, float4 b) { return any(a >= b); }
 #endif
 
 #if defined(LT_FENCE_PTX) || defined(LT_FENCE_CL20)
-inline uint lt__add_u32(volatile LT_GLOBAL uint *p, uint v) {
-  lt_fence();
-  uint old = atomic_add(p, v);
-  lt_fence();
-  return old;
-}
-inline uint lt__cas_u32(volatile LT_GLOBAL uint *p, uint expected, uint desired) {
-  lt_fence();
-  uint old = atomic_cmpxchg(p, expected, desired);
-  lt_fence();
-  return old;
-}
-inline int lt__add_i32(volatile LT_GLOBAL int *p, int v) {
-  lt_fence();
-  int old = atomic_add(p, v);
-  lt_fence();
-  return old;
-}
-inline int lt__cas_i32(volatile LT_GLOBAL int *p, int expected, int desired) {
-  lt_fence();
-  int old = atomic_cmpxchg(p, expected, desired);
-  lt_fence();
-  return old;
-}
-inline int lt__min_i32(volatile LT_GLOBAL int *p, int v) {
-  lt_fence();
-  int old = atomic_min(p, v);
-  lt_fence();
-  return old;
-}
-inline int lt__max_i32(volatile LT_GLOBAL int *p, int v) {
-  lt_fence();
-  int old = atomic_max(p, v);
-  lt_fence();
-  return old;
-}
-inline int lt__load_i32(volatile LT_GLOBAL const int *p) {
-  lt_fence();
-  int v = *p;
-  lt_fence();
-  return v;
-}
-inline void lt__store_i32(volatile LT_GLOBAL int *p, int v) {
-  lt_fence();
-  (void)atomic_xchg(p, v);
-  lt_fence();
-}
-#define lt_atomic_add_u32(p, v) lt__add_u32((volatile LT_GLOBAL uint *)(p), (v))
-#define lt_atomic_cas_u32(p, expected, desired) lt__cas_u32((volatile LT_GLOBAL uint *)(p), (expected), (desired))
-#define lt_atomic_add_i32(p, v) lt__add_i32((volatile LT_GLOBAL int *)(p), (v))
-#define lt_atomic_cas_i32(p, expected, desired) lt__cas_i32((volatile LT_GLOBAL int *)(p), (expected), (desired))
-#define lt_atomic_load_i32(p) lt__load_i32((volatile LT_GLOBAL const int *)(p))
-#define lt_atomic_store_i32(p, v) lt__store_i32((volatile LT_GLOBAL int *)(p), (v))
-#define lt_atomic_min_i32(p, v) lt__min_i32((volatile LT_GLOBAL int *)(p), (v))
-#define lt_atomic_max_i32(p, v) lt__max_i32((volatile LT_GLOBAL int *)(p), (v))
+/* lt__fenced_NAME(p, args): OP(p, args) between two fences. */
+#define LT__FENCED(T, NAME, PARAMS, CALL) \
+  inline T lt__fenced_##NAME PARAMS {     \
+    lt_fence();                           \
+    T old = CALL;                         \
+    lt_fence();                           \
+    return old;                           \
+  }
+LT__FENCED(uint, add_u32, (volatile LT_GLOBAL uint *p, uint v), atomic_add(p, v))
+LT__FENCED(uint, cas_u32, (volatile LT_GLOBAL uint *p, uint e, uint d), atomic_cmpxchg(p, e, d))
+LT__FENCED(int, add_i32, (volatile LT_GLOBAL int *p, int v), atomic_add(p, v))
+LT__FENCED(int, cas_i32, (volatile LT_GLOBAL int *p, int e, int d), atomic_cmpxchg(p, e, d))
+LT__FENCED(int, min_i32, (volatile LT_GLOBAL int *p, int v), atomic_min(p, v))
+LT__FENCED(int, max_i32, (volatile LT_GLOBAL int *p, int v), atomic_max(p, v))
+LT__FENCED(int, load_i32, (volatile LT_GLOBAL const int *p), *p)
+LT__FENCED(int, xchg_i32, (volatile LT_GLOBAL int *p, int v), atomic_xchg(p, v))
+#define lt_atomic_add_u32(p, v) lt__fenced_add_u32((volatile LT_GLOBAL uint *)(p), (v))
+#define lt_atomic_cas_u32(p, e, d) lt__fenced_cas_u32((volatile LT_GLOBAL uint *)(p), (e), (d))
+#define lt_atomic_add_i32(p, v) lt__fenced_add_i32((volatile LT_GLOBAL int *)(p), (v))
+#define lt_atomic_cas_i32(p, e, d) lt__fenced_cas_i32((volatile LT_GLOBAL int *)(p), (e), (d))
+#define lt_atomic_load_i32(p) lt__fenced_load_i32((volatile LT_GLOBAL const int *)(p))
+#define lt_atomic_store_i32(p, v) ((void)lt__fenced_xchg_i32((volatile LT_GLOBAL int *)(p), (v)))
+#define lt_atomic_min_i32(p, v) lt__fenced_min_i32((volatile LT_GLOBAL int *)(p), (v))
+#define lt_atomic_max_i32(p, v) lt__fenced_max_i32((volatile LT_GLOBAL int *)(p), (v))
 #else
 #define lt_atomic_add_u32(p, v) atomic_add((volatile LT_GLOBAL uint *)(p), (v))
 #define lt_atomic_cas_u32(p, expected, desired) \
