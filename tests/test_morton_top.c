@@ -100,11 +100,11 @@ static void morton_top_matches_reference_in_every_mode(void **state) {
   for (size_t s = 0; s < count; s++) {
     lt_scene *scene;
     assert_int_equal(lt_scene_load(specs[s], &scene), LT_OK);
-    lt_ray *rays = malloc(RAY_COUNT * sizeof *rays);
+    size_t n;
+    lt_ray *rays = lt_test_generator_rays(scene, CAMERA_SIZE, RANDOM_RAYS, 11 + s, &n);
+    assert_non_null(rays);
+    assert_int_equal(n, RAY_COUNT);
     lt_hit *ref = malloc(RAY_COUNT * sizeof *ref);
-    lt_test_camera_rays(scene, "outer", CAMERA_SIZE, CAMERA_SIZE, rays);
-    lt_test_camera_rays(scene, "close", CAMERA_SIZE, CAMERA_SIZE, rays + CAMERA_SIZE * CAMERA_SIZE);
-    lt_test_random_rays(scene, 11 + s, RANDOM_RAYS, rays + 2 * CAMERA_SIZE * CAMERA_SIZE);
     assert_int_equal(lt_reference_trace(scene, rays, RAY_COUNT, LT_QUERY_CLOSEST, ref), LT_OK);
     for (int mode = LT_BUILD_FULL; mode <= LT_BUILD_SPECULATIVE; mode++)
       for (size_t l = 0; l < sizeof launches / sizeof launches[0]; l++) {
