@@ -50,7 +50,7 @@ header() {
   echo
   header "$@"
   echo "- the machine is shared with other work, so single runs are noisy; compare within one run"
-  echo "- best on-demand: the fastest per frame of requested, speculative, Kd_R and Kd_A; the targets"
+  echo "- best on-demand: the fastest per frame of requested and speculative (SAH or Morton top), Kd_R and Kd_A; the targets"
   echo "  (issue 17): best / Embree low at most 0.6, best / LBVH below 1"
   echo
   $B collide "$@" --csv $R/ondemand_collision.csv house-grid:3x3 house-grid:6x5 teapot-stadium hairball:10000
