@@ -3,6 +3,7 @@
  * the top 12 code bits, binned SAH above them (HLBVH: Pantaleoni and Luebke 2010; pbrt-v3 4.3.3). */
 #include "builders/host/lbvh.h"
 #include "builders/host/morton.h"
+#include "builders/host/radix_sort.h"
 
 #include <float.h>
 #include <math.h>
@@ -13,8 +14,7 @@
 #define MORTON_BITS (3 * AXIS_BITS)
 /* Four levels of the octree: the "_4" of HLBVH_4; at most 4096 clusters. */
 #define CLUSTER_BITS 12
-#define RADIX_BITS   10
-#define RADIX_PASSES ((MORTON_BITS + RADIX_BITS - 1) / RADIX_BITS)
+#define RADIX_PASSES ((MORTON_BITS + LT_RADIX_BITS - 1) / LT_RADIX_BITS)
 /* Clusters are few, so the top is cheap even with the on-demand paper's 32 bins. */
 #define TOP_MAX_BINS 32
 /* Triangles per work item of the parallel loops over all triangles: a fixed size, so that the
@@ -278,31 +278,6 @@ static void build_top(builder *b, int begin, int end, int depth, int parent, int
   top->cost += (double)b->config->traversal_cost * box_area(&out->bounds);
 }
 
-/* ---- Parallel loops ---- */
-
-/* Items claimed one at a time from a shared counter by every worker of the executor. */
-typedef struct loop {
-  void (*body)(void *ctx, int item);
-  void *ctx;
-  int items;
-  int next; /* the next item to claim */
-} loop;
-
-static void loop_worker(void *p) {
-  loop *l = p;
-  for (int i; (i = __atomic_fetch_add(&l->next, 1, __ATOMIC_RELAXED)) < l->items;) l->body(l->ctx, i);
-}
-
-/* Runs body(ctx, i) for every i in [0, items), on the executor's workers when there are several
- * (or on the caller alone when they cannot be started). Starting and joining the threads orders
- * their writes before what follows. */
-static void parallel_for(const lt__executor *ex, int items, void (*body)(void *ctx, int item), void *ctx) {
-  loop l = {body, ctx, items, 0};
-  int workers = ex && ex->run ? (ex->workers < items ? ex->workers : items) : 1;
-  if (workers > 1 && ex->run(workers, loop_worker, &l) == LT_OK) return;
-  loop_worker(&l);
-}
-
 /* ---- The phases of a build ---- */
 
 /* Working arrays and the state one build's phases share. */
@@ -314,8 +289,7 @@ typedef struct lbvh_build {
   box cbounds;          /* bounds of all centroids */
   float scale[3];       /* Morton cells per unit length along each axis */
   uint64_t *keys, *tmp;
-  uint32_t *digits; /* per chunk and radix bucket: a count, then the bucket's next slot */
-  int shift;        /* the radix pass's lowest bit */
+  uint32_t *digits; /* per chunk and radix bucket (builders/host/radix_sort.h) */
   int *order;       /* clusters by decreasing size: big hierarchies start first */
   builder b;
   lt__bvh *out;
@@ -353,53 +327,6 @@ static void codes_chunk(void *ctx, int chunk) {
     for (int k = 0; k < 3; k++) centre[k] = 0.5f * (pb->lo[k] + pb->hi[k]);
     uint32_t code = lt__morton_code(centre, w->cbounds.lo, w->scale);
     w->keys[i] = (uint64_t)code << 32 | (uint32_t)i;
-  }
-}
-
-/* LSD radix sort, one pass in two parallel halves: every chunk counts its digits, and after the
- * prefix sums over (digit, chunk) every chunk scatters its keys to its own slots, in order. The
- * pass is stable and the keys start in triangle order, so equal codes end in triangle order. */
-static void count_chunk(void *ctx, int chunk) {
-  lbvh_build *w = ctx;
-  uint32_t *count = w->digits + (size_t)chunk * (1 << RADIX_BITS);
-  memset(count, 0, (1 << RADIX_BITS) * sizeof *count);
-  for (int i = chunk * CHUNK_TRIS; i < chunk_end(w, chunk); i++)
-    count[(w->keys[i] >> w->shift) & ((1 << RADIX_BITS) - 1)]++;
-}
-
-static void scatter_chunk(void *ctx, int chunk) {
-  lbvh_build *w = ctx;
-  uint32_t *slot = w->digits + (size_t)chunk * (1 << RADIX_BITS);
-  for (int i = chunk * CHUNK_TRIS; i < chunk_end(w, chunk); i++)
-    w->tmp[slot[(w->keys[i] >> w->shift) & ((1 << RADIX_BITS) - 1)]++] = w->keys[i];
-}
-
-/* Sorts w->keys (the result ends in w->keys; w->tmp is scratch). */
-static void radix_sort(lbvh_build *w, const lt__executor *ex, uint64_t *ops) {
-  enum { buckets = 1 << RADIX_BITS };
-  for (int p = 0; p < RADIX_PASSES; p++) {
-    w->shift = 32 + p * RADIX_BITS;
-    parallel_for(ex, w->chunks, count_chunk, w);
-
-    /* A digit that is the same in every key would only copy the array. */
-    uint32_t first = (uint32_t)(w->keys[0] >> w->shift) & (buckets - 1), same = 0;
-    for (int c = 0; c < w->chunks; c++) same += w->digits[(size_t)c * buckets + first];
-    if ((int)same == w->n) continue;
-
-    /* Exclusive prefix sums, digit by digit and within a digit chunk by chunk, give each
-     * chunk's first slot for each digit. */
-    uint32_t sum = 0;
-    for (int d = 0; d < buckets; d++)
-      for (int c = 0; c < w->chunks; c++) {
-        uint32_t *v = &w->digits[(size_t)c * buckets + d];
-        uint32_t count = *v;
-        *v = sum;
-        sum += count;
-      }
-    parallel_for(ex, w->chunks, scatter_chunk, w);
-    uint64_t *swap = w->keys;
-    w->keys = w->tmp, w->tmp = swap;
-    *ops += (uint64_t)w->n;
   }
 }
 
@@ -477,19 +404,21 @@ static void build_all(lbvh_build *w, const lt__executor *ex) {
   builder *b = &w->b;
 
   /* Triangle boxes and centroid bounds, then the Morton codes over those bounds. */
-  parallel_for(ex, w->chunks, boxes_chunk, w);
+  lt__executor_for(ex, w->chunks, boxes_chunk, w);
   w->cbounds = box_empty();
   for (int c = 0; c < w->chunks; c++) box_grow(&w->cbounds, &w->chunk_centroids[c]);
   for (int k = 0; k < 3; k++) {
     float extent = w->cbounds.hi[k] - w->cbounds.lo[k];
     w->scale[k] = extent > 0.0f ? (float)(1 << AXIS_BITS) / extent : 0.0f;
   }
-  parallel_for(ex, w->chunks, codes_chunk, w);
+  lt__executor_for(ex, w->chunks, codes_chunk, w);
 
   /* Sort, and gather the boxes into key order. */
-  radix_sort(w, ex, &out->sort_ops);
+  lt__radix_sort sort = {w->keys, w->tmp, w->digits, w->n, CHUNK_TRIS, 0};
+  out->sort_ops += (uint64_t)w->n * (uint64_t)lt__radix_sort_keys(&sort, RADIX_PASSES, 0, ex);
+  w->keys = sort.keys, w->tmp = sort.tmp;
   b->keys = w->keys;
-  parallel_for(ex, w->chunks, gather_chunk, w);
+  lt__executor_for(ex, w->chunks, gather_chunk, w);
 
   /* Clusters: runs of keys with the same top CLUSTER_BITS of the code, each found by a binary
    * search for the first key past its prefix; their bounds in parallel. */
@@ -510,7 +439,7 @@ static void build_all(lbvh_build *w, const lt__executor *ex) {
     b->cluster_count++;
     i = lo;
   }
-  parallel_for(ex, b->cluster_count, cluster_bounds, w);
+  lt__executor_for(ex, b->cluster_count, cluster_bounds, w);
 
   /* The SAH top over the clusters, on this thread: its nodes come first in the node array. */
   b->nodes = out->nodes;
@@ -527,7 +456,7 @@ static void build_all(lbvh_build *w, const lt__executor *ex) {
     if (cl->has_tree) next += cl->end - cl->begin - 1;
   }
   order_clusters(w, w->tmp);
-  parallel_for(ex, b->cluster_count, cluster_tree, w);
+  lt__executor_for(ex, b->cluster_count, cluster_tree, w);
 
   /* The compact node array: the top's nodes, then each cluster's, in cluster order. A cluster
    * only moves down, to where no later cluster's nodes are yet, so moving them in order is safe. */
@@ -537,7 +466,7 @@ static void build_all(lbvh_build *w, const lt__executor *ex) {
     cl->first = total;
     if (cl->has_tree) total += cl->tree.next_node - cl->reserved;
   }
-  parallel_for(ex, b->cluster_count, cluster_relink, w);
+  lt__executor_for(ex, b->cluster_count, cluster_relink, w);
   for (int c = 0; c < b->cluster_count; c++) {
     const cluster *cl = &b->clusters[c];
     if (cl->has_tree && cl->first != cl->reserved)
@@ -568,7 +497,7 @@ static void build_all(lbvh_build *w, const lt__executor *ex) {
     set_child(&out->nodes[0], 1, &empty);
   }
 
-  parallel_for(ex, b->cluster_count, cluster_triangles, w);
+  lt__executor_for(ex, b->cluster_count, cluster_triangles, w);
   out->tri_count = w->n;
   float root_area = box_area(&root.bounds);
   out->sah_cost = root_area > 0.0f ? out->sah_cost / root_area : 0.0;
@@ -599,7 +528,7 @@ lt_status lt__bvh_build_lbvh_with(const float *tris, size_t n, const lt__sah_con
   w.chunk_centroids = malloc((size_t)chunks * sizeof(box));
   w.keys = malloc((n > (1 << CLUSTER_BITS) ? n : (1 << CLUSTER_BITS)) * sizeof(uint64_t));
   w.tmp = malloc((n > (1 << CLUSTER_BITS) ? n : (1 << CLUSTER_BITS)) * sizeof(uint64_t));
-  w.digits = malloc((size_t)chunks * (1 << RADIX_BITS) * sizeof(uint32_t));
+  w.digits = malloc((size_t)chunks * LT_RADIX_BUCKETS * sizeof(uint32_t));
   w.b.clusters = malloc(((size_t)1 << CLUSTER_BITS) * sizeof(cluster));
   w.b.cluster_index = malloc(((size_t)1 << CLUSTER_BITS) * sizeof(int));
   w.order = malloc(((size_t)1 << CLUSTER_BITS) * sizeof(int));

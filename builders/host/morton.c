@@ -3,18 +3,18 @@
  * sums over (digit, chunk), each chunk scatters its keys in order), and a pyramid of boxes over
  * blocks of the sorted order. */
 #include "builders/host/morton.h"
+#include "builders/host/radix_sort.h"
 
 #include <stdlib.h>
 #include <string.h>
 
 #define AXIS_BITS  10
-#define RADIX_BITS 10
 /* The top 20 of the code's 30 bits are sorted (two passes): the Morton top only splits nodes of
  * thousands of triangles, which never need the last 10 bits, and a node whose triangles share
  * all 20 is left to the SAH (builders/bvh_morton.h). */
 #define SORT_BITS    20
-#define RADIX_PASSES (SORT_BITS / RADIX_BITS)
-#define BUCKETS      (1 << RADIX_BITS)
+#define RADIX_PASSES (SORT_BITS / LT_RADIX_BITS)
+#define BUCKETS      LT_RADIX_BUCKETS
 /* Triangles per work item: a fixed size, so that the order is the same for any worker count. */
 #define CHUNK (1 << 14)
 
@@ -22,32 +22,12 @@ typedef struct sort_job {
   const float *boxes;
   int n, chunks;
   float lo[3], scale[3];
-  uint64_t *keys, *tmp; /* code << 32 | triangle */
-  uint32_t *digits;     /* per chunk and bucket: a count, then the bucket's next slot */
-  int shift;
+  uint64_t *keys;   /* code << 32 | triangle (sorted in `sort`) */
+  uint32_t *digits; /* the first radix pass's counts, per chunk */
   uint32_t *codes;
   int32_t *index;
   lt_v4 *blocks;
 } sort_job;
-
-/* Work items claimed one at a time from a shared counter by every worker. */
-typedef struct loop {
-  void (*body)(sort_job *job, int item);
-  sort_job *job;
-  int items, next;
-} loop;
-
-static void loop_worker(void *p) {
-  loop *l = p;
-  for (int i; (i = __atomic_fetch_add(&l->next, 1, __ATOMIC_RELAXED)) < l->items;) l->body(l->job, i);
-}
-
-static void parallel_for(const lt__executor *ex, int items, void (*body)(sort_job *, int), sort_job *job) {
-  loop l = {body, job, items, 0};
-  int workers = ex && ex->run ? (ex->workers < items ? ex->workers : items) : 1;
-  if (workers > 1 && ex->run(workers, loop_worker, &l) == LT_OK) return;
-  loop_worker(&l);
-}
 
 static int chunk_end(const sort_job *j, int chunk) {
   long long end = (long long)(chunk + 1) * CHUNK;
@@ -76,7 +56,8 @@ uint32_t lt__morton_code(const float p[3], const float lo[3], const float scale[
                lt_v4_make(scale[0], scale[1], scale[2], 0.0f));
 }
 
-static void codes_chunk(sort_job *j, int chunk) {
+static void codes_chunk(void *job, int chunk) {
+  sort_job *j = job;
   uint32_t *count = j->digits + (size_t)chunk * BUCKETS;
   memset(count, 0, BUCKETS * sizeof *count);
   const lt_v4 *boxes = (const lt_v4 *)j->boxes;
@@ -89,22 +70,10 @@ static void codes_chunk(sort_job *j, int chunk) {
   }
 }
 
-static void count_chunk(sort_job *j, int chunk) {
-  uint32_t *count = j->digits + (size_t)chunk * BUCKETS;
-  memset(count, 0, BUCKETS * sizeof *count);
-  for (int i = chunk * CHUNK, end = chunk_end(j, chunk); i < end; i++)
-    count[(j->keys[i] >> j->shift) & (BUCKETS - 1)]++;
-}
-
-static void scatter_chunk(sort_job *j, int chunk) {
-  uint32_t *slot = j->digits + (size_t)chunk * BUCKETS;
-  for (int i = chunk * CHUNK, end = chunk_end(j, chunk); i < end; i++)
-    j->tmp[slot[(j->keys[i] >> j->shift) & (BUCKETS - 1)]++] = j->keys[i];
-}
-
 /* Sorted codes and triangle numbers out of the keys, and the bottom level's block boxes (a
  * chunk is a whole number of blocks). */
-static void unpack_chunk(sort_job *j, int chunk) {
+static void unpack_chunk(void *job, int chunk) {
+  sort_job *j = job;
   const lt_v4 *boxes = (const lt_v4 *)j->boxes;
   for (int i = chunk * CHUNK; i < chunk_end(j, chunk); i += LT_BVH_MORTON_BLOCK) {
     /* The boxes are gathered in code order: ask for a block ahead. */
@@ -134,26 +103,6 @@ size_t lt__morton_work_bytes(size_t n) {
   return 2 * n * sizeof(uint64_t) + (n + CHUNK - 1) / CHUNK * BUCKETS * sizeof(uint32_t);
 }
 
-/* Sorts j->keys (the result ends in j->keys); the first pass's digits are counted already. */
-static void radix_sort(sort_job *j, const lt__executor *ex, double *sort_ops) {
-  for (int p = 0; p < RADIX_PASSES; p++) {
-    j->shift = 32 + p * RADIX_BITS;
-    if (p > 0) parallel_for(ex, j->chunks, count_chunk, j);
-
-    /* Exclusive prefix sums, digit by digit and within a digit chunk by chunk. */
-    uint32_t sum = 0;
-    for (int d = 0; d < BUCKETS; d++)
-      for (int c = 0; c < j->chunks; c++) {
-        uint32_t *v = &j->digits[(size_t)c * BUCKETS + d], count = *v;
-        *v = sum, sum += count;
-      }
-    parallel_for(ex, j->chunks, scatter_chunk, j);
-    uint64_t *swap = j->keys;
-    j->keys = j->tmp, j->tmp = swap;
-    *sort_ops += j->n;
-  }
-}
-
 lt_status lt__morton_order(const float *boxes, size_t n, const lt_box *bounds, const lt__executor *executor, void *work,
                            uint32_t *codes, int32_t *index, float *block_boxes, double *sort_ops) {
   if (!boxes || !bounds || !codes || !index || !block_boxes || n == 0 || n > INT32_MAX / 2)
@@ -171,10 +120,13 @@ lt_status lt__morton_order(const float *boxes, size_t n, const lt_box *bounds, c
   if (!status) {
     /* Fewer than two chunks are done on the caller: starting threads would cost more. */
     const lt__executor *ex = j.chunks > 1 ? executor : NULL;
-    j.keys = keys, j.tmp = tmp;
-    parallel_for(ex, j.chunks, codes_chunk, &j);
-    radix_sort(&j, ex, sort_ops);
-    parallel_for(ex, j.chunks, unpack_chunk, &j);
+    j.keys = keys;
+    lt__executor_for(ex, j.chunks, codes_chunk, &j);
+    lt__radix_sort sort = {keys, tmp, j.digits, j.n, CHUNK, 0};
+    lt__radix_sort_keys(&sort, RADIX_PASSES, 1, ex);
+    *sort_ops += (double)RADIX_PASSES * j.n;
+    j.keys = sort.keys;
+    lt__executor_for(ex, j.chunks, unpack_chunk, &j);
 
     /* The levels above the bottom: box i of a level bounds boxes 2i and 2i + 1 below. */
     lt_v4 *level = j.blocks;
