@@ -10,14 +10,15 @@
  * the scalar watertight (or fast) test itself: hits are bit for bit those of every other
  * structure. A ray with a zero direction component takes the plain per-lane form.
  *
- * Leaves of at least LT_BVH8_FILTER_MIN triangles: the watertight test's edge functions of a
- * block of four (device/bvh8_node.h, lt_tri4) are computed as one SSE vector each, in the same
- * operations and order as the one-triangle test computes them, so every lane holds the very
- * floats that test would get. A lane whose three are non-zero and of mixed signs is one the
- * test rejects at that point; every other lane (a possible hit, or an edge function of exactly
- * 0 that the test recomputes in double) goes through the one-triangle test itself. So the
- * filter drops only triangles the test would drop, and hits stay bit for bit. Smaller leaves,
- * and Moller-Trumbore (the fast option), test triangle by triangle.
+ * Leaves, with the watertight test: each block of four triangles (device/bvh8_node.h, lt_tri4)
+ * goes through that test's steps up to the scaled distance as one SSE vector each, in the same
+ * operations and order as the one-triangle test, so every lane holds the very floats that test
+ * computes. A lane whose three edge functions are non-zero and of mixed signs is one the test
+ * rejects at that point; a lane with an edge function of exactly 0 (which the test recomputes
+ * in double) takes the one-triangle test itself; the others, the test's candidates, go through
+ * its last steps (lt_watertight_finish: the area check, the distance in double, the clamp)
+ * with their lane's floats. So hits stay bit for bit. Moller-Trumbore (the fast option) tests
+ * triangle by triangle. An any-hit query stops at the first hit, in index order.
  *
  * Traversal: at an inner child the ray meets its children's eight boxes; one entered goes on
  * at once, several go on the stack with their entry distances sorted so that the nearest is
@@ -55,10 +56,10 @@ static inline int lt_bvh8_supported(void) {
 /* The ray's origin, reciprocal direction and tmin, one lane per box, made once per ray. */
 typedef struct lt_bvh8_ray {
   __m256 org[3], inv[3], tmin;
-  __m128 org4[3], sx4, sy4; /* origin and shear, one lane per triangle */
+  __m128 org4[3], sx4, sy4, sz4; /* origin and shear, one lane per triangle */
   int parallel;             /* some direction component is 0 (or -0): the plain form decides */
   int widen;                /* conservative rounding (all but the accuracy report's plain slabs) */
-  int filter;               /* the watertight test: big leaves are filtered four triangles at a time */
+  int filter;               /* the watertight test: leaves are tested four triangles at a time */
 } lt_bvh8_ray;
 
 LT_BVH8_TARGET static inline lt_bvh8_ray lt_bvh8_ray_make(const lt_ray_setup *r) {
@@ -66,7 +67,7 @@ LT_BVH8_TARGET static inline lt_bvh8_ray lt_bvh8_ray_make(const lt_ray_setup *r)
   for (int k = 0; k < 3; k++) q.org[k] = _mm256_set1_ps(r->org[k]), q.inv[k] = _mm256_set1_ps(r->inv_dir[k]);
   q.tmin = _mm256_set1_ps(r->tmin);
   for (int k = 0; k < 3; k++) q.org4[k] = _mm_set1_ps(r->org[k]);
-  q.sx4 = _mm_set1_ps(r->sx), q.sy4 = _mm_set1_ps(r->sy);
+  q.sx4 = _mm_set1_ps(r->sx), q.sy4 = _mm_set1_ps(r->sy), q.sz4 = _mm_set1_ps(r->sz);
   q.filter = !(r->flags & LT_QUERY_FLAG_FAST_TRIANGLES);
   q.parallel = r->dir[0] == 0.0f || r->dir[1] == 0.0f || r->dir[2] == 0.0f;
   q.widen = !(r->flags & LT_QUERY_FLAG_PLAIN_SLABS);
@@ -118,11 +119,22 @@ LT_BVH8_TARGET static inline int lt_bvh8_box8(const lt_ray_setup *r, const lt_bv
   return _mm256_movemask_ps(_mm256_cmp_ps(near_t, far_t, _CMP_LE_OS)) & lt_bvh8_child_lanes(n);
 }
 
-/* One bit per lane of the block that the watertight test might not reject by the signs of
- * its edge functions (see the top of this file): lt_intersect_watertight's first steps, four
- * triangles at once, with the same operations in the same order. */
-LT_BVH8_TARGET static inline int lt_bvh8_tri4_candidates(const lt_ray_setup *r, const lt_bvh8_ray *q,
-                                                         const lt_tri4 *b) {
+/* The one-triangle test of the ray's kind on triangle t. */
+LT_BVH8_TARGET static inline void lt_bvh8_triangle(const lt_ray_setup *r, const lt_tri *t, lt_hit_record *hit) {
+  float v0[3] = {t->v0.x, t->v0.y, t->v0.z}, v1[3] = {t->v1.x, t->v1.y, t->v1.z}, v2[3] = {t->v2.x, t->v2.y, t->v2.z};
+  lt_intersect_triangle(r, v0, v1, v2, lt_float_as_int(t->v0.w), hit);
+}
+
+/* The watertight test of a block's four triangles (the lanes in `lanes`), in index order:
+ * lt_intersect_watertight's steps up to the scaled distance as one SSE vector each, with the
+ * same operations in the same order, so that every lane holds the very floats that test
+ * computes for its triangle (see the top of this file). A lane whose edge functions are
+ * non-zero and of mixed signs is rejected here, as that test rejects it; a lane with one of
+ * them exactly 0 (which that test recomputes in double) takes the one-triangle test; the
+ * others are the test's candidates and go through its last steps (lt_watertight_finish) with
+ * the lane's floats. Returns 1 when an any-hit query found its hit (the rest is not tested). */
+LT_BVH8_TARGET static inline int lt_bvh8_tri4_watertight(const lt_ray_setup *r, const lt_bvh8_ray *q, const lt_tri4 *b,
+                                                         const lt_tri *t, int lanes, int any_hit, lt_hit_record *hit) {
   /* Vertices relative to the origin, sheared and scaled into ray space. */
   __m128 a[3], bb[3], c[3];
   for (int k = 0; k < 3; k++) {
@@ -135,7 +147,8 @@ LT_BVH8_TARGET static inline int lt_bvh8_tri4_candidates(const lt_ray_setup *r, 
   __m128 bx = _mm_sub_ps(bb[kx], _mm_mul_ps(q->sx4, bb[kz])), by = _mm_sub_ps(bb[ky], _mm_mul_ps(q->sy4, bb[kz]));
   __m128 cx = _mm_sub_ps(c[kx], _mm_mul_ps(q->sx4, c[kz])), cy = _mm_sub_ps(c[ky], _mm_mul_ps(q->sy4, c[kz]));
 
-  /* The edge functions, then the lanes the test rejects: none zero, signs mixed. */
+  /* The edge functions; the lanes the test rejects (none zero, signs mixed) and those it
+   * recomputes in double (one zero). */
   __m128 u = _mm_sub_ps(_mm_mul_ps(cx, by), _mm_mul_ps(cy, bx));
   __m128 v = _mm_sub_ps(_mm_mul_ps(ax, cy), _mm_mul_ps(ay, cx));
   __m128 w = _mm_sub_ps(_mm_mul_ps(bx, ay), _mm_mul_ps(by, ax));
@@ -143,14 +156,48 @@ LT_BVH8_TARGET static inline int lt_bvh8_tri4_candidates(const lt_ray_setup *r, 
   __m128 any_zero = _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(u, zero), _mm_cmpeq_ps(v, zero)), _mm_cmpeq_ps(w, zero));
   __m128 any_neg = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(u, zero), _mm_cmplt_ps(v, zero)), _mm_cmplt_ps(w, zero));
   __m128 any_pos = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(u, zero), _mm_cmpgt_ps(v, zero)), _mm_cmpgt_ps(w, zero));
-  __m128 rejected = _mm_andnot_ps(any_zero, _mm_and_ps(any_neg, any_pos));
-  return ~_mm_movemask_ps(rejected) & 15;
+  int zeros = _mm_movemask_ps(any_zero) & lanes;
+  int open = ~_mm_movemask_ps(_mm_or_ps(any_zero, _mm_and_ps(any_neg, any_pos))) & lanes;
+  if (!(zeros | open)) return 0;
+
+  /* The scaled distance of the candidates, then each lane in index order. */
+  __m128 t_scaled = _mm_add_ps(_mm_add_ps(_mm_mul_ps(u, _mm_mul_ps(q->sz4, a[kz])), _mm_mul_ps(v, _mm_mul_ps(q->sz4, bb[kz]))),
+                               _mm_mul_ps(w, _mm_mul_ps(q->sz4, c[kz])));
+  float uu[4], vv[4], ww[4], ts[4];
+  _mm_storeu_ps(uu, u), _mm_storeu_ps(vv, v), _mm_storeu_ps(ww, w), _mm_storeu_ps(ts, t_scaled);
+  for (int todo = zeros | open; todo; todo &= todo - 1) {
+    int lane = __builtin_ctz((unsigned)todo);
+    const lt_tri *tri = &t[lane];
+    if (zeros >> lane & 1) {
+      lt_bvh8_triangle(r, tri, hit);
+    } else {
+      float v0[3] = {tri->v0.x, tri->v0.y, tri->v0.z}, v1[3] = {tri->v1.x, tri->v1.y, tri->v1.z};
+      float v2[3] = {tri->v2.x, tri->v2.y, tri->v2.z};
+      lt_watertight_finish(r, v0, v1, v2, uu[lane], vv[lane], ww[lane], ts[lane], lt_float_as_int(tri->v0.w), hit);
+    }
+    if (any_hit && hit->prim >= 0) return 1;
+  }
+  return 0;
 }
 
-/* The one-triangle test of the ray's kind on triangle t. */
-LT_BVH8_TARGET static inline void lt_bvh8_triangle(const lt_ray_setup *r, const lt_tri *t, lt_hit_record *hit) {
-  float v0[3] = {t->v0.x, t->v0.y, t->v0.z}, v1[3] = {t->v1.x, t->v1.y, t->v1.z}, v2[3] = {t->v2.x, t->v2.y, t->v2.z};
-  lt_intersect_triangle(r, v0, v1, v2, lt_float_as_int(t->v0.w), hit);
+/* A leaf's `count` triangles from position `first`, in index order: blocks of four through
+ * the vector test (`vector` and the watertight test), else one by one. Returns 1 when an
+ * any-hit query found its hit; the rest of the leaf is then not tested, either way. */
+LT_BVH8_TARGET static inline int lt_bvh8_leaf(const lt_ray_setup *r, const lt_bvh8_ray *q, const lt_tri4 *blocks,
+                                              const lt_tri *tris, lt_i32 first, lt_i32 count, int vector, int any_hit,
+                                              lt_hit_record *hit) {
+  const lt_tri *t = &tris[first];
+  if (!vector || !q->filter) {
+    for (lt_i32 k = 0; k < count; k++) {
+      lt_bvh8_triangle(r, &t[k], hit);
+      if (any_hit && hit->prim >= 0) return 1;
+    }
+    return 0;
+  }
+  const lt_tri4 *b = &blocks[first >> 2];
+  for (lt_i32 left = count; left > 0; left -= 4, b++, t += 4)
+    if (lt_bvh8_tri4_watertight(r, q, b, t, left < 4 ? (1 << left) - 1 : 15, any_hit, hit)) return 1;
+  return 0;
 }
 
 /* Traces one ray prepared with lt_ray_prepare (its flags set) through a finished 8-wide tree
@@ -219,22 +266,9 @@ LT_BVH8_TARGET static inline int lt_bvh8_traverse_with(const lt_bvh8_node *nodes
         continue;
       }
     } else {
-      /* A leaf: a small one triangle by triangle, a big one four at a time through the filter. */
+      /* A leaf: four triangles at a time. */
       c->intersections += (lt_u32)count;
-      const lt_tri *t = &tris[first];
-      if (count < LT_BVH8_FILTER_MIN || !vector || !q.filter) {
-        for (lt_i32 k = 0; k < count; k++) lt_bvh8_triangle(r, &t[k], &hit);
-      } else {
-        const lt_tri4 *b = &blocks[first >> 2];
-        for (lt_i32 left = count; left > 0; left -= 4, b++, t += 4) {
-          int lanes = (left < 4 ? (1 << left) - 1 : 15) & lt_bvh8_tri4_candidates(r, &q, b);
-          while (lanes) {
-            lt_bvh8_triangle(r, &t[__builtin_ctz((unsigned)lanes)], &hit);
-            lanes &= lanes - 1;
-          }
-        }
-      }
-      if (any_hit && hit.prim >= 0) break;
+      if (lt_bvh8_leaf(r, &q, blocks, tris, first, count, vector, any_hit, &hit)) break;
     }
 
     /* The nearest pending child the best hit does not rule out (ties are kept: a triangle at
