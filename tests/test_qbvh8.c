@@ -388,6 +388,57 @@ static void qbvh8_four_triangle_test_matches_the_one_triangle_test(void **state)
   lt_hc_free(&cube);
 }
 
+/* The 8-wide kernel's ray setup is lt_ray_prepare's, field for field and bit for bit, on the
+ * hard rays (+0 and -0 direction components, rays along axes), random ones, rays with tiny
+ * and huge direction components, and the invalid ones (NaN, infinities, a zero direction,
+ * tmin > tmax). */
+static void qbvh8_ray_setup_matches_lt_ray_prepare(void **state) {
+  (void)state;
+  if (!lt_bvh8_supported()) skip();
+  lt_hc_mesh cube = lt_hc_cube(4, 5);
+  enum { N = 1024 };
+  lt_ray *rays = malloc(N * sizeof *rays);
+  assert_non_null(rays);
+  size_t n = hard_rays(&cube, rays, N / 2);
+  lt_hc_random_rays(&cube, 9, N / 4, rays + n);
+  n += N / 4;
+  for (int i = 0; i < 16; i++, n++) {
+    rays[n] = rays[i];
+    rays[n].dir[i % 3] = i & 4 ? 1e-45f : -3e38f; /* reciprocals that overflow, and huge ones */
+    rays[n].tmax = i & 8 ? -1.0f : rays[n].tmax;
+  }
+  n += lt_hc_invalid_rays(rays + n, N - n);
+  int invalid = 0;
+  for (size_t i = 0; i < n; i++) {
+    const lt_ray *ray = &rays[i];
+    const float packed[8] = {ray->org[0], ray->org[1], ray->org[2], ray->tmin,
+                             ray->dir[0], ray->dir[1], ray->dir[2], ray->tmax};
+    lt_ray_setup a = lt_ray_prepare(packed[0], packed[1], packed[2], packed[3], packed[4], packed[5], packed[6], packed[7]);
+    a.flags = (int)i & 7;
+    lt_ray_setup b;
+    memset(&b, 0x5a, sizeof b);
+    lt_bvh8_ray_prepare(packed, (int)i & 7, &b);
+    invalid += !a.valid;
+    assert_int_equal(a.valid, b.valid);
+    assert_memory_equal(&a.org4, &b.org4, sizeof a.org4);
+    assert_memory_equal(&a.inv4, &b.inv4, sizeof a.inv4);
+    assert_memory_equal(a.org, b.org, sizeof a.org);
+    assert_memory_equal(a.dir, b.dir, sizeof a.dir);
+    assert_memory_equal(a.inv_dir, b.inv_dir, sizeof a.inv_dir);
+    assert_memory_equal(&a.tmin, &b.tmin, sizeof a.tmin);
+    assert_memory_equal(&a.tmax, &b.tmax, sizeof a.tmax);
+    assert_int_equal(a.kx, b.kx), assert_int_equal(a.ky, b.ky), assert_int_equal(a.kz, b.kz);
+    assert_memory_equal(&a.sx, &b.sx, sizeof a.sx);
+    assert_memory_equal(&a.sy, &b.sy, sizeof a.sy);
+    assert_memory_equal(&a.sz, &b.sz, sizeof a.sz);
+    assert_int_equal(a.parallel, b.parallel);
+    assert_int_equal(a.flags, b.flags);
+  }
+  assert_true(invalid > 8);
+  free(rays);
+  lt_hc_free(&cube);
+}
+
 /* ---- Which path the library takes ---- */
 
 /* On the native backend with AVX2 the statistics describe the 8-wide tree (256 bytes a node);
@@ -441,6 +492,7 @@ int main(void) {
       cmocka_unit_test(qbvh8_vector_and_plain_box_tests_agree),
       cmocka_unit_test(qbvh8_single_triangle),
       cmocka_unit_test(qbvh8_four_triangle_test_matches_the_one_triangle_test),
+      cmocka_unit_test(qbvh8_ray_setup_matches_lt_ray_prepare),
       cmocka_unit_test(qbvh8_native_path_follows_the_cpu_and_the_switch),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
