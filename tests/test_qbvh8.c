@@ -1,10 +1,11 @@
 /* The QBVH's native 8-wide path (device/bvh8_node.h, traversal/bvh8_traverse.h): the
  * collapse's tree (every triangle once, padded leaves and their blocks, exact boxes, siblings
- * together, the depth), the AVX2 box test against the plain per-lane one, the big leaves'
- * four-triangle filter against testing every triangle, whole traversals against the 4-wide QBVH's hits bit
- * for bit, and which path the library takes (AVX2 or LT_QBVH_WIDTH=4). Hits against the
- * brute-force reference through the library, on every generator and the closed meshes, are
- * tests/test_qbvh.c's (the native default is this path). Tests that need AVX2 skip without it. */
+ * together, the depth), the AVX2 box test against the plain per-lane one, the four-triangle
+ * watertight test against the one-triangle test (hard cases), the kernel's ray setup against
+ * lt_ray_prepare, whole traversals against the 4-wide QBVH's hits bit for bit, and which
+ * path the library takes (AVX2 or LT_QBVH_WIDTH=4). Hits against the brute-force reference
+ * through the library, on every generator and the closed meshes, are tests/test_qbvh.c's (the
+ * native default is this path). Tests that need AVX2 skip without it. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -111,7 +112,7 @@ static void build_with(const lt_scene *scene, float traversal_cost, lt__bvh *bvh
 static void build(const lt_scene *scene, lt__bvh *bvh, lt__bvh8 *w8) { build_with(scene, 1.0f, bvh, w8); }
 
 /* Triangles in leaves of more than one block of four. */
-static int filtered_triangles(const lt__bvh8 *w8) {
+static int multi_block_triangles(const lt__bvh8 *w8) {
   int n = 0;
   for (int i = 0; i < w8->node_count; i++)
     for (int lane = 0; lane < LT_BVH8_WIDTH; lane++)
@@ -166,11 +167,11 @@ static void trace_host(int how, const lt__bvh8 *w8, const lt__qbvh *q, const lt_
 
 /* Rays with +0 and -0 components, axis-aligned and diagonal, from inside a cube of shared
  * edges (aimed at its vertices and edges), and random ones: both box tests give every node the
- * same mask and entry distances; the 8-wide traversal with vector boxes and the big leaves'
- * four-triangle filter gives the same hits and counters as with plain boxes and every
+ * same mask and entry distances; the 8-wide traversal with vector boxes and the leaves'
+ * four-triangle test gives the same hits and counters as with plain boxes and every
  * triangle tested alone, and the same hits as the QBVH, for closest and any hit, watertight
  * and fast triangles, with and without the conservative widening. The trees are built with a
- * high node cost, so that leaves of up to 16 triangles make the filter run. */
+ * high node cost, so that leaves of up to 16 triangles take several blocks. */
 static void qbvh8_vector_and_plain_box_tests_agree(void **state) {
   (void)state;
   if (!lt_bvh8_supported()) skip();
@@ -201,7 +202,7 @@ static void qbvh8_vector_and_plain_box_tests_agree(void **state) {
     build_with(scenes[s], 8.0f, &bvh, &w8);
     lt__qbvh q;
     assert_int_equal(lt__qbvh_collapse(&bvh, LT_QBVH_MAX_NODES, &q), LT_OK);
-    assert_true(filtered_triangles(&w8) > bvh.tri_count / 2);
+    assert_true(multi_block_triangles(&w8) > bvh.tri_count / 2);
 
     /* Node by node. */
     size_t lanes_hit = 0;
