@@ -279,7 +279,8 @@ static void qbvh8_single_triangle(void **state) {
 
 /* Triangles that break a watertight test: the cube's faces (edges and vertices shared by up to
  * six triangles), triangles without area (a repeated vertex, collinear vertices, one point),
- * +0 and -0 coordinates, triangles in axis planes through the origin, and a long sliver. */
+ * +0 and -0 coordinates, triangles in axis planes through the origin, a long sliver, and
+ * copies of faces (ties broken by the triangle number). */
 static int hard_triangles(const lt_scene *cube, lt_tri **out) {
   static const float extra[][9] = {
       {0, 0, 0, 1, 1, 1, 2, 2, 2},             /* collinear */
@@ -291,13 +292,16 @@ static int hard_triangles(const lt_scene *cube, lt_tri **out) {
       {0, -0.0f, 0, 1, 0, 0, 0, -0.0f, 1},     /* in the plane y = 0 */
       {-30, 0, 1.5f, 30, 0.01f, 1.5f, 30, 0.02f, 1.5001f}, /* a sliver */
   };
-  int n = (int)lt_scene_triangle_count(cube), m = (int)(sizeof extra / sizeof extra[0]);
+  enum { COPIES = 8 };
+  int n = (int)lt_scene_triangle_count(cube), m = (int)(sizeof extra / sizeof extra[0]) + COPIES;
   lt_tri *t = malloc((size_t)(n + m) * sizeof *t);
   assert_non_null(t);
   const float *v = lt_scene_triangles(cube);
   for (int i = 0; i < n + m; i++) {
-    const float *f = i < n ? v + 9 * i : extra[i - n];
-    t[i].v0 = (lt_float4){f[0], f[1], f[2], lt_int_as_float(i)};
+    const float *f = i < n ? v + 9 * i : i < n + m - COPIES ? extra[i - n] : v + 9 * (i - (n + m - COPIES));
+    /* Numbered backwards: the copies of the cube's first triangles at the end tie with them
+     * and win by their lower numbers, in later blocks. */
+    t[i].v0 = (lt_float4){f[0], f[1], f[2], lt_int_as_float(n + m - 1 - i)};
     t[i].v1 = (lt_float4){f[3], f[4], f[5], 0};
     t[i].v2 = (lt_float4){f[6], f[7], f[8], 0};
   }
