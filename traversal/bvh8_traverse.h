@@ -22,8 +22,9 @@
  *
  * Traversal: at an inner child the ray meets its children's eight boxes; one entered goes on
  * at once, several go on the stack with their entry distances sorted so that the nearest is
- * on top and taken next. Leaves wait on the stack like inner children, so triangles are tested
- * near to far too. A popped child whose entry distance lies behind the best hit is dropped. */
+ * on top and taken next (an any-hit query sorts no more than two: any hit ends it). Leaves
+ * wait on the stack like inner children, so triangles are tested near to far too. A popped
+ * child whose entry distance lies behind the best hit is dropped. */
 #ifndef LT_BVH8_TRAVERSE_H
 #define LT_BVH8_TRAVERSE_H
 
@@ -294,6 +295,17 @@ LT_BVH8_TARGET static inline int lt_bvh8_traverse_with(const lt_bvh8_node *nodes
         }
         int base = sp;
         stack[sp].first = n->first[lane], stack[sp].count = n->count[lane], stack[sp].t = t[lane], sp++;
+        if (any_hit) {
+          /* Any hit: no order to keep (as Embree's occlusion traversal), the last one next. */
+          do {
+            lane = __builtin_ctz((unsigned)mask);
+            mask &= mask - 1;
+            stack[sp].first = n->first[lane], stack[sp].count = n->count[lane], stack[sp].t = t[lane], sp++;
+          } while (mask);
+          sp--;
+          first = stack[sp].first, count = stack[sp].count;
+          continue;
+        }
         do {
           lane = __builtin_ctz((unsigned)mask);
           mask &= mask - 1;
