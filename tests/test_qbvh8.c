@@ -357,8 +357,10 @@ static void qbvh8_four_triangle_test_matches_the_one_triangle_test(void **state)
     const lt_tri *t = &tris[i < n ? i : n - 1];
     padded[i] = *t;
     const lt_float4 *v[3] = {&t->v0, &t->v1, &t->v2};
-    for (int j = 0; j < 3; j++)
-      b[i / 4].v[3 * j][i % 4] = v[j]->x, b[i / 4].v[3 * j + 1][i % 4] = v[j]->y, b[i / 4].v[3 * j + 2][i % 4] = v[j]->z;
+    for (int j = 0; j < 3; j++) {
+      lt_tri4 *block = &b[i / 4];
+      block->v[3 * j][i % 4] = v[j]->x, block->v[3 * j + 1][i % 4] = v[j]->y, block->v[3 * j + 2][i % 4] = v[j]->z;
+    }
   }
   enum { N = 2048 };
   lt_ray *rays = malloc(N * sizeof *rays);
@@ -418,7 +420,8 @@ static void qbvh8_ray_setup_matches_lt_ray_prepare(void **state) {
     const lt_ray *ray = &rays[i];
     const float packed[8] = {ray->org[0], ray->org[1], ray->org[2], ray->tmin,
                              ray->dir[0], ray->dir[1], ray->dir[2], ray->tmax};
-    lt_ray_setup a = lt_ray_prepare(packed[0], packed[1], packed[2], packed[3], packed[4], packed[5], packed[6], packed[7]);
+    lt_ray_setup a =
+        lt_ray_prepare(packed[0], packed[1], packed[2], packed[3], packed[4], packed[5], packed[6], packed[7]);
     a.flags = (int)i & 7;
     lt_ray_setup b;
     memset(&b, 0x5a, sizeof b);

@@ -255,7 +255,7 @@ LT_BVH8_TARGET static inline int lt_bvh8_traverse_with(const lt_bvh8_node *nodes
   lt_bvh8_ray q = lt_bvh8_ray_make(r);
   lt_bvh8_item stack[LT_BVH8_STACK_SIZE];
   int sp = 0;
-  lt_u32 steps = 0, tests = 0; /* counted here, added once: c may alias the stack for the compiler */
+  lt_u32 steps = 0, tests = 0;  /* counted here, added once: c may alias the stack for the compiler */
   lt_i32 first = 0, count = -1; /* node 0, the root's children */
   while (r->valid) {
     if (count < 0) {
