@@ -13,9 +13,8 @@
  * The tree has its own copy of the triangles in leaf order, each leaf starting at a multiple
  * of four (the lanes up to the next one are padding, never tested), and beside it the same
  * triangles in blocks of four in SoA form (lt_tri4, as Embree's Triangle4): block i holds
- * triangles 4i to 4i + 3. Leaves of at least LT_BVH8_FILTER_MIN triangles compute the
- * watertight test's edge functions of a block's four triangles in one vector pass and drop the
- * ones the ray passes outside of; smaller ones, and the survivors, take the one-triangle test.
+ * triangles 4i to 4i + 3. The watertight test runs on a block's four triangles in one vector
+ * pass (traversal/bvh8_traverse.h); only its last steps, for a possible hit, run per triangle.
  *
  * Node 0 holds the root's children. The traversal's stack holds children (first, count and
  * entry distance), not nodes, so no bits of an index are given up and the node count is
@@ -43,10 +42,6 @@ typedef struct lt_bvh8_node {
 typedef struct lt_tri4 {
   float v[9][4]; /* 144 bytes: v0.x v0.y v0.z v1.x v1.y v1.z v2.x v2.y v2.z, four lanes each */
 } lt_tri4;
-
-/* The smallest leaf whose triangles are filtered four at a time (measured: see
- * docs/notes/qbvh.md, "The native 8-wide path"). */
-#define LT_BVH8_FILTER_MIN 4
 
 #ifndef __OPENCL_VERSION__
 _Static_assert(sizeof(lt_tri4) == 144, "lt_tri4 is 144 bytes");

@@ -24,9 +24,8 @@ typedef struct lt_bvh8_trace_view {
 /* Kept out of line: the kernel's chunk loop is baseline x86-64, this function AVX2. */
 LT_BVH8_TARGET __attribute__((noinline, unused)) static int lt_bvh8_trace_one(const lt_bvh8_trace_view *v, lt_i32 i,
                                                                      lt_trace_counters *c) {
-  const float *ray = v->batch.rays + 8 * (long)i;
-  lt_ray_setup r = lt_ray_prepare(ray[0], ray[1], ray[2], ray[3], ray[4], ray[5], ray[6], ray[7]);
-  r.flags = v->batch.flags;
+  lt_ray_setup r;
+  lt_bvh8_ray_prepare(v->batch.rays + 8 * (long)i, v->batch.flags, &r);
   lt_hit_record hit;
   int status = lt_bvh8_traverse_with(v->nodes, v->blocks, v->tris, &r, &hit, c, 1);
   lt_trace_batch_put(&v->batch, i, hit);

@@ -1,10 +1,11 @@
 /* The QBVH's native 8-wide path (device/bvh8_node.h, traversal/bvh8_traverse.h): the
  * collapse's tree (every triangle once, padded leaves and their blocks, exact boxes, siblings
- * together, the depth), the AVX2 box test against the plain per-lane one, the big leaves'
- * four-triangle filter against testing every triangle, whole traversals against the 4-wide QBVH's hits bit
- * for bit, and which path the library takes (AVX2 or LT_QBVH_WIDTH=4). Hits against the
- * brute-force reference through the library, on every generator and the closed meshes, are
- * tests/test_qbvh.c's (the native default is this path). Tests that need AVX2 skip without it. */
+ * together, the depth), the AVX2 box test against the plain per-lane one, the four-triangle
+ * watertight test against the one-triangle test (hard cases), the kernel's ray setup against
+ * lt_ray_prepare, whole traversals against the 4-wide QBVH's hits bit for bit, and which
+ * path the library takes (AVX2 or LT_QBVH_WIDTH=4). Hits against the brute-force reference
+ * through the library, on every generator and the closed meshes, are tests/test_qbvh.c's (the
+ * native default is this path). Tests that need AVX2 skip without it. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -110,12 +111,12 @@ static void build_with(const lt_scene *scene, float traversal_cost, lt__bvh *bvh
 
 static void build(const lt_scene *scene, lt__bvh *bvh, lt__bvh8 *w8) { build_with(scene, 1.0f, bvh, w8); }
 
-/* Triangles in leaves the filter takes (at least LT_BVH8_FILTER_MIN). */
-static int filtered_triangles(const lt__bvh8 *w8) {
+/* Triangles in leaves of more than one block of four. */
+static int multi_block_triangles(const lt__bvh8 *w8) {
   int n = 0;
   for (int i = 0; i < w8->node_count; i++)
     for (int lane = 0; lane < LT_BVH8_WIDTH; lane++)
-      if (w8->nodes[i].count[lane] >= LT_BVH8_FILTER_MIN) n += w8->nodes[i].count[lane];
+      if (w8->nodes[i].count[lane] > 4) n += w8->nodes[i].count[lane];
   return n;
 }
 
@@ -166,11 +167,11 @@ static void trace_host(int how, const lt__bvh8 *w8, const lt__qbvh *q, const lt_
 
 /* Rays with +0 and -0 components, axis-aligned and diagonal, from inside a cube of shared
  * edges (aimed at its vertices and edges), and random ones: both box tests give every node the
- * same mask and entry distances; the 8-wide traversal with vector boxes and the big leaves'
- * four-triangle filter gives the same hits and counters as with plain boxes and every
+ * same mask and entry distances; the 8-wide traversal with vector boxes and the leaves'
+ * four-triangle test gives the same hits and counters as with plain boxes and every
  * triangle tested alone, and the same hits as the QBVH, for closest and any hit, watertight
  * and fast triangles, with and without the conservative widening. The trees are built with a
- * high node cost, so that leaves of up to 16 triangles make the filter run. */
+ * high node cost, so that leaves of up to 16 triangles take several blocks. */
 static void qbvh8_vector_and_plain_box_tests_agree(void **state) {
   (void)state;
   if (!lt_bvh8_supported()) skip();
@@ -201,7 +202,7 @@ static void qbvh8_vector_and_plain_box_tests_agree(void **state) {
     build_with(scenes[s], 8.0f, &bvh, &w8);
     lt__qbvh q;
     assert_int_equal(lt__qbvh_collapse(&bvh, LT_QBVH_MAX_NODES, &q), LT_OK);
-    assert_true(filtered_triangles(&w8) > bvh.tri_count / 2);
+    assert_true(multi_block_triangles(&w8) > bvh.tri_count / 2);
 
     /* Node by node. */
     size_t lanes_hit = 0;
@@ -274,6 +275,178 @@ static void qbvh8_single_triangle(void **state) {
   lt_scene_destroy(scene);
 }
 
+/* ---- The four-triangle test against the one-triangle test ---- */
+
+/* Triangles that break a watertight test: the cube's faces (edges and vertices shared by up to
+ * six triangles), triangles without area (a repeated vertex, collinear vertices, one point),
+ * +0 and -0 coordinates, triangles in axis planes through the origin, a long sliver, and
+ * copies of faces (ties broken by the triangle number). */
+static int hard_triangles(const lt_scene *cube, lt_tri **out) {
+  static const float extra[][9] = {
+      {0, 0, 0, 1, 1, 1, 2, 2, 2},             /* collinear */
+      {0, 0, 0, 0, 0, 0, 1, 0, 0},             /* a repeated vertex */
+      {0.5f, 0.5f, 1, 0.5f, 0.5f, 1, 0.5f, 0.5f, 1}, /* one point */
+      {-0.0f, -0.0f, 1, 1, -0.0f, 1, -0.0f, 1, 1},
+      {0.0f, 0.0f, 1, 1, 0.0f, 1, 0.0f, 1, 1},
+      {-0.0f, 0, 0, -0.0f, 1, 0, 0, 0, 1},     /* in the plane x = 0, +0 and -0 mixed */
+      {0, -0.0f, 0, 1, 0, 0, 0, -0.0f, 1},     /* in the plane y = 0 */
+      {-30, 0, 1.5f, 30, 0.01f, 1.5f, 30, 0.02f, 1.5001f}, /* a sliver */
+  };
+  enum { COPIES = 8 };
+  int n = (int)lt_scene_triangle_count(cube), m = (int)(sizeof extra / sizeof extra[0]) + COPIES;
+  lt_tri *t = malloc((size_t)(n + m) * sizeof *t);
+  assert_non_null(t);
+  const float *v = lt_scene_triangles(cube);
+  for (int i = 0; i < n + m; i++) {
+    const float *f = i < n ? v + 9 * i : i < n + m - COPIES ? extra[i - n] : v + 9 * (i - (n + m - COPIES));
+    /* Numbered backwards: the copies of the cube's first triangles at the end tie with them
+     * and win by their lower numbers, in later blocks. */
+    t[i].v0 = (lt_float4){f[0], f[1], f[2], lt_int_as_float(n + m - 1 - i)};
+    t[i].v1 = (lt_float4){f[3], f[4], f[5], 0};
+    t[i].v2 = (lt_float4){f[6], f[7], f[8], 0};
+  }
+  *out = t;
+  return n + m;
+}
+
+/* Rays at the hard triangles: the cube's closed-mesh rays (at its vertices and edges from
+ * inside), rays from the origin and from (0.25, 0.25, -2) along the 26 axis and diagonal
+ * directions with +0 and -0 components, and rays that start on the cube's grid points (on
+ * shared vertices and edges, as AO rays start on a surface) with tmin 0 and the smallest
+ * positive float. */
+static size_t hard_rays(lt_hc_mesh *cube, lt_ray *rays, size_t max) {
+  size_t n = lt_hc_closed_rays(cube, 5, max / 2, rays);
+  const float origins[3][3] = {{0, 0, 0}, {0.25f, 0.25f, -2}, {-0.0f, -0.0f, 0.5f}};
+  for (int o = 0; o < 3; o++)
+    for (int code = 0; code < 27 && n < max; code++)
+      for (int sign = 0; sign < 8 && n < max; sign++) {
+        if (code == 13) continue;
+        lt_ray *r = &rays[n++];
+        for (int k = 0; k < 3; k++) {
+          int comp = (code / (k == 0 ? 1 : k == 1 ? 3 : 9)) % 3 - 1;
+          r->org[k] = origins[o][k];
+          r->dir[k] = comp ? (float)comp : (sign >> k & 1 ? -0.0f : 0.0f);
+        }
+        r->tmin = 0, r->tmax = INFINITY;
+      }
+  for (int i = 0; n < max; i++) {
+    lt_ray *r = &rays[n++];
+    for (int k = 0; k < 3; k++) r->org[k] = (float)((i / (k == 0 ? 1 : k == 1 ? 5 : 25)) % 5 - 2);
+    r->org[i % 3] = i & 8 ? -2.0f : 2.0f; /* on a face of the cube [-2, 2]^3 */
+    for (int k = 0; k < 3; k++) r->dir[k] = (float)((i * 7 + 3 * k) % 5 - 2) + 0.25f * (float)k;
+    r->tmin = i & 1 ? 0.0f : 1.4e-45f, r->tmax = i & 2 ? 1.5f : INFINITY;
+  }
+  return n;
+}
+
+/* The four-triangle watertight test, block by block, against the one-triangle test lane by
+ * lane in index order on the hard cases: after every block the hit records are identical bit
+ * for bit, for closest hits (each block starting from the best hit of the ones before) and
+ * for any hit (stopping at the same triangle). */
+static void qbvh8_four_triangle_test_matches_the_one_triangle_test(void **state) {
+  (void)state;
+  if (!lt_bvh8_supported()) skip();
+  lt_hc_mesh cube = lt_hc_cube(4, 5);
+  lt_tri *tris;
+  int n = hard_triangles(cube.scene, &tris), blocks = (n + 3) / 4;
+  lt_tri4 *b = aligned_alloc(64, (size_t)blocks * sizeof *b);
+  lt_tri *padded = malloc((size_t)blocks * 4 * sizeof *padded);
+  assert_non_null(b);
+  assert_non_null(padded);
+  for (int i = 0; i < 4 * blocks; i++) {
+    const lt_tri *t = &tris[i < n ? i : n - 1];
+    padded[i] = *t;
+    const lt_float4 *v[3] = {&t->v0, &t->v1, &t->v2};
+    for (int j = 0; j < 3; j++) {
+      lt_tri4 *block = &b[i / 4];
+      block->v[3 * j][i % 4] = v[j]->x, block->v[3 * j + 1][i % 4] = v[j]->y, block->v[3 * j + 2][i % 4] = v[j]->z;
+    }
+  }
+  enum { N = 2048 };
+  lt_ray *rays = malloc(N * sizeof *rays);
+  assert_non_null(rays);
+  size_t count = hard_rays(&cube, rays, N), hits = 0, stops = 0;
+  for (size_t i = 0; i < count; i++) {
+    lt_ray_setup r = lt_ray_prepare(rays[i].org[0], rays[i].org[1], rays[i].org[2], rays[i].tmin, rays[i].dir[0],
+                                    rays[i].dir[1], rays[i].dir[2], rays[i].tmax);
+    if (!r.valid) continue;
+    lt_bvh8_ray q = lt_bvh8_ray_make(&r);
+    for (int any = 0; any < 2; any++) {
+      lt_hit_record one = {r.tmax, 0, 0, -1}, four = one;
+      int one_stop = 0;
+      for (int k = 0; k < blocks && !one_stop; k++) {
+        for (int lane = 0; lane < 4 && !one_stop; lane++) {
+          const lt_tri *t = &padded[4 * k + lane];
+          float v0[3] = {t->v0.x, t->v0.y, t->v0.z}, v1[3] = {t->v1.x, t->v1.y, t->v1.z};
+          float v2[3] = {t->v2.x, t->v2.y, t->v2.z};
+          lt_intersect_watertight(&r, v0, v1, v2, lt_float_as_int(t->v0.w), &one);
+          one_stop = any && one.prim >= 0;
+        }
+        int four_stop = lt_bvh8_tri4_watertight(&r, &q, &b[k], &padded[4 * k], 15, any, &four);
+        assert_int_equal(four_stop, one_stop);
+        assert_memory_equal(&one, &four, sizeof one);
+      }
+      hits += one.prim >= 0, stops += one_stop;
+    }
+  }
+  assert_true(hits > count / 2);
+  assert_true(stops > count / 4);
+  free(rays), free(padded), free(tris), free(b);
+  lt_hc_free(&cube);
+}
+
+/* The 8-wide kernel's ray setup is lt_ray_prepare's, field for field and bit for bit, on the
+ * hard rays (+0 and -0 direction components, rays along axes), random ones, rays with tiny
+ * and huge direction components, and the invalid ones (NaN, infinities, a zero direction,
+ * tmin > tmax). */
+static void qbvh8_ray_setup_matches_lt_ray_prepare(void **state) {
+  (void)state;
+  if (!lt_bvh8_supported()) skip();
+  lt_hc_mesh cube = lt_hc_cube(4, 5);
+  enum { N = 1024 };
+  lt_ray *rays = malloc(N * sizeof *rays);
+  assert_non_null(rays);
+  size_t n = hard_rays(&cube, rays, N / 2);
+  lt_hc_random_rays(&cube, 9, N / 4, rays + n);
+  n += N / 4;
+  for (int i = 0; i < 16; i++, n++) {
+    rays[n] = rays[i];
+    rays[n].dir[i % 3] = i & 4 ? 1e-45f : -3e38f; /* reciprocals that overflow, and huge ones */
+    rays[n].tmax = i & 8 ? -1.0f : rays[n].tmax;
+  }
+  n += lt_hc_invalid_rays(rays + n, N - n);
+  int invalid = 0;
+  for (size_t i = 0; i < n; i++) {
+    const lt_ray *ray = &rays[i];
+    const float packed[8] = {ray->org[0], ray->org[1], ray->org[2], ray->tmin,
+                             ray->dir[0], ray->dir[1], ray->dir[2], ray->tmax};
+    lt_ray_setup a =
+        lt_ray_prepare(packed[0], packed[1], packed[2], packed[3], packed[4], packed[5], packed[6], packed[7]);
+    a.flags = (int)i & 7;
+    lt_ray_setup b;
+    memset(&b, 0x5a, sizeof b);
+    lt_bvh8_ray_prepare(packed, (int)i & 7, &b);
+    invalid += !a.valid;
+    assert_int_equal(a.valid, b.valid);
+    assert_memory_equal(&a.org4, &b.org4, sizeof a.org4);
+    assert_memory_equal(&a.inv4, &b.inv4, sizeof a.inv4);
+    assert_memory_equal(a.org, b.org, sizeof a.org);
+    assert_memory_equal(a.dir, b.dir, sizeof a.dir);
+    assert_memory_equal(a.inv_dir, b.inv_dir, sizeof a.inv_dir);
+    assert_memory_equal(&a.tmin, &b.tmin, sizeof a.tmin);
+    assert_memory_equal(&a.tmax, &b.tmax, sizeof a.tmax);
+    assert_int_equal(a.kx, b.kx), assert_int_equal(a.ky, b.ky), assert_int_equal(a.kz, b.kz);
+    assert_memory_equal(&a.sx, &b.sx, sizeof a.sx);
+    assert_memory_equal(&a.sy, &b.sy, sizeof a.sy);
+    assert_memory_equal(&a.sz, &b.sz, sizeof a.sz);
+    assert_int_equal(a.parallel, b.parallel);
+    assert_int_equal(a.flags, b.flags);
+  }
+  assert_true(invalid > 8);
+  free(rays);
+  lt_hc_free(&cube);
+}
+
 /* ---- Which path the library takes ---- */
 
 /* On the native backend with AVX2 the statistics describe the 8-wide tree (256 bytes a node);
@@ -326,6 +499,8 @@ int main(void) {
       cmocka_unit_test(qbvh8_collapse_keeps_every_triangle_and_exact_boxes),
       cmocka_unit_test(qbvh8_vector_and_plain_box_tests_agree),
       cmocka_unit_test(qbvh8_single_triangle),
+      cmocka_unit_test(qbvh8_four_triangle_test_matches_the_one_triangle_test),
+      cmocka_unit_test(qbvh8_ray_setup_matches_lt_ray_prepare),
       cmocka_unit_test(qbvh8_native_path_follows_the_cpu_and_the_switch),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

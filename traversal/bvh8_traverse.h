@@ -10,19 +10,21 @@
  * the scalar watertight (or fast) test itself: hits are bit for bit those of every other
  * structure. A ray with a zero direction component takes the plain per-lane form.
  *
- * Leaves of at least LT_BVH8_FILTER_MIN triangles: the watertight test's edge functions of a
- * block of four (device/bvh8_node.h, lt_tri4) are computed as one SSE vector each, in the same
- * operations and order as the one-triangle test computes them, so every lane holds the very
- * floats that test would get. A lane whose three are non-zero and of mixed signs is one the
- * test rejects at that point; every other lane (a possible hit, or an edge function of exactly
- * 0 that the test recomputes in double) goes through the one-triangle test itself. So the
- * filter drops only triangles the test would drop, and hits stay bit for bit. Smaller leaves,
- * and Moller-Trumbore (the fast option), test triangle by triangle.
+ * Leaves, with the watertight test: each block of four triangles (device/bvh8_node.h, lt_tri4)
+ * goes through that test's steps up to the scaled distance as one SSE vector each, in the same
+ * operations and order as the one-triangle test, so every lane holds the very floats that test
+ * computes. A lane whose three edge functions are non-zero and of mixed signs is one the test
+ * rejects at that point; a lane with an edge function of exactly 0 (which the test recomputes
+ * in double) takes the one-triangle test itself; the others, the test's candidates, go through
+ * its last steps (lt_watertight_finish: the area check, the distance in double, the clamp)
+ * with their lane's floats. So hits stay bit for bit. Moller-Trumbore (the fast option) tests
+ * triangle by triangle. An any-hit query stops at the first hit, in index order.
  *
  * Traversal: at an inner child the ray meets its children's eight boxes; one entered goes on
  * at once, several go on the stack with their entry distances sorted so that the nearest is
- * on top and taken next. Leaves wait on the stack like inner children, so triangles are tested
- * near to far too. A popped child whose entry distance lies behind the best hit is dropped. */
+ * on top and taken next (an any-hit query sorts no more than two: any hit ends it). Leaves
+ * wait on the stack like inner children, so triangles are tested near to far too. A popped
+ * child whose entry distance lies behind the best hit is dropped. */
 #ifndef LT_BVH8_TRAVERSE_H
 #define LT_BVH8_TRAVERSE_H
 
@@ -55,22 +57,62 @@ static inline int lt_bvh8_supported(void) {
 /* The ray's origin, reciprocal direction and tmin, one lane per box, made once per ray. */
 typedef struct lt_bvh8_ray {
   __m256 org[3], inv[3], tmin;
-  __m128 org4[3], sx4, sy4; /* origin and shear, one lane per triangle */
+  __m128 org_kx, org_ky, org_kz, sx4, sy4, sz4; /* origin on the shear's axes and shear, one lane per triangle */
   int parallel;             /* some direction component is 0 (or -0): the plain form decides */
   int widen;                /* conservative rounding (all but the accuracy report's plain slabs) */
-  int filter;               /* the watertight test: big leaves are filtered four triangles at a time */
+  int filter;               /* the watertight test: leaves are tested four triangles at a time */
 } lt_bvh8_ray;
 
 LT_BVH8_TARGET static inline lt_bvh8_ray lt_bvh8_ray_make(const lt_ray_setup *r) {
   lt_bvh8_ray q;
   for (int k = 0; k < 3; k++) q.org[k] = _mm256_set1_ps(r->org[k]), q.inv[k] = _mm256_set1_ps(r->inv_dir[k]);
   q.tmin = _mm256_set1_ps(r->tmin);
-  for (int k = 0; k < 3; k++) q.org4[k] = _mm_set1_ps(r->org[k]);
-  q.sx4 = _mm_set1_ps(r->sx), q.sy4 = _mm_set1_ps(r->sy);
+  q.org_kx = _mm_set1_ps(r->org[r->kx]), q.org_ky = _mm_set1_ps(r->org[r->ky]), q.org_kz = _mm_set1_ps(r->org[r->kz]);
+  q.sx4 = _mm_set1_ps(r->sx), q.sy4 = _mm_set1_ps(r->sy), q.sz4 = _mm_set1_ps(r->sz);
   q.filter = !(r->flags & LT_QUERY_FLAG_FAST_TRIANGLES);
-  q.parallel = r->dir[0] == 0.0f || r->dir[1] == 0.0f || r->dir[2] == 0.0f;
+  q.parallel = r->parallel;
   q.widen = !(r->flags & LT_QUERY_FLAG_PLAIN_SLABS);
   return q;
+}
+
+/* lt_ray_prepare for the 8-wide kernel, from a ray in the ray file's layout (origin, tmin,
+ * direction, tmax): the same lt_ray_setup field for field, bit for bit (the tests compare
+ * both on valid and invalid rays), with its finiteness checks, zero tests and reciprocals as
+ * SSE lanes instead of a branch each and written in place instead of returned: an AO ray's
+ * setup was a fifth of its instructions. */
+LT_BVH8_TARGET static inline void lt_bvh8_ray_prepare(const float *ray, int flags, lt_ray_setup *r) {
+  __m128 o = _mm_loadu_ps(ray), d = _mm_loadu_ps(ray + 4); /* ox oy oz tmin, dx dy dz tmax */
+  __m128 magnitude = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)), zero = _mm_setzero_ps();
+  __m128 xyz = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0)), inf = _mm_set1_ps(INFINITY);
+  int finite_o = _mm_movemask_ps(_mm_cmplt_ps(_mm_and_ps(o, magnitude), inf));
+  int finite_d = _mm_movemask_ps(_mm_cmplt_ps(_mm_and_ps(d, magnitude), inf));
+  int nonzero_d = _mm_movemask_ps(_mm_cmpneq_ps(d, zero)) & 7, zero_d = _mm_movemask_ps(_mm_cmpeq_ps(d, zero)) & 7;
+  float tmin = ray[3], tmax = ray[7];
+  r->valid = finite_o == 15 && (finite_d & 7) == 7 && tmax == tmax && tmin <= tmax && nonzero_d;
+  r->tmin = tmin, r->tmax = tmax, r->flags = flags;
+
+  /* 1/d, 0 where d is 0 (either sign), clamped to the largest float; a NaN stays NaN. */
+  __m128 inv = _mm_div_ps(_mm_set1_ps(1.0f), d);
+  inv = _mm_min_ps(_mm_set1_ps(LT_FLOAT_MAX), _mm_max_ps(_mm_set1_ps(-LT_FLOAT_MAX), inv));
+  inv = _mm_and_ps(inv, _mm_and_ps(_mm_cmpneq_ps(d, zero), xyz));
+  r->org4 = (lt_v4)_mm_and_ps(o, xyz), r->inv4 = (lt_v4)inv;
+  for (int k = 0; k < 3; k++) r->org[k] = ray[k], r->dir[k] = ray[4 + k], r->inv_dir[k] = r->inv4[k];
+  r->parallel = zero_d != 0;
+
+  /* The watertight test's axes and shear, as lt_ray_prepare makes them. */
+  float ax = lt_fabsf(r->dir[0]), ay = lt_fabsf(r->dir[1]), az = lt_fabsf(r->dir[2]);
+  r->kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+  r->kx = r->kz == 2 ? 0 : r->kz + 1;
+  r->ky = r->kx == 2 ? 0 : r->kx + 1;
+  if (r->dir[r->kz] < 0.0f) {
+    int swap = r->kx;
+    r->kx = r->ky;
+    r->ky = swap;
+  }
+  float dkz = r->valid ? r->dir[r->kz] : 1.0f;
+  r->sx = r->dir[r->kx] / dkz;
+  r->sy = r->dir[r->ky] / dkz;
+  r->sz = 1.0f / dkz;
 }
 
 /* One bit per lane that holds a child (count != 0): empty lanes have empty boxes, which the
@@ -118,24 +160,36 @@ LT_BVH8_TARGET static inline int lt_bvh8_box8(const lt_ray_setup *r, const lt_bv
   return _mm256_movemask_ps(_mm256_cmp_ps(near_t, far_t, _CMP_LE_OS)) & lt_bvh8_child_lanes(n);
 }
 
-/* One bit per lane of the block that the watertight test might not reject by the signs of
- * its edge functions (see the top of this file): lt_intersect_watertight's first steps, four
- * triangles at once, with the same operations in the same order. */
-LT_BVH8_TARGET static inline int lt_bvh8_tri4_candidates(const lt_ray_setup *r, const lt_bvh8_ray *q,
-                                                         const lt_tri4 *b) {
-  /* Vertices relative to the origin, sheared and scaled into ray space. */
-  __m128 a[3], bb[3], c[3];
-  for (int k = 0; k < 3; k++) {
-    a[k] = _mm_sub_ps(_mm_load_ps(b->v[k]), q->org4[k]);
-    bb[k] = _mm_sub_ps(_mm_load_ps(b->v[3 + k]), q->org4[k]);
-    c[k] = _mm_sub_ps(_mm_load_ps(b->v[6 + k]), q->org4[k]);
-  }
-  int kx = r->kx, ky = r->ky, kz = r->kz;
-  __m128 ax = _mm_sub_ps(a[kx], _mm_mul_ps(q->sx4, a[kz])), ay = _mm_sub_ps(a[ky], _mm_mul_ps(q->sy4, a[kz]));
-  __m128 bx = _mm_sub_ps(bb[kx], _mm_mul_ps(q->sx4, bb[kz])), by = _mm_sub_ps(bb[ky], _mm_mul_ps(q->sy4, bb[kz]));
-  __m128 cx = _mm_sub_ps(c[kx], _mm_mul_ps(q->sx4, c[kz])), cy = _mm_sub_ps(c[ky], _mm_mul_ps(q->sy4, c[kz]));
+/* The one-triangle test of the ray's kind on triangle t. */
+LT_BVH8_TARGET static inline void lt_bvh8_triangle(const lt_ray_setup *r, const lt_tri *t, lt_hit_record *hit) {
+  float v0[3] = {t->v0.x, t->v0.y, t->v0.z}, v1[3] = {t->v1.x, t->v1.y, t->v1.z}, v2[3] = {t->v2.x, t->v2.y, t->v2.z};
+  lt_intersect_triangle(r, v0, v1, v2, lt_float_as_int(t->v0.w), hit);
+}
 
-  /* The edge functions, then the lanes the test rejects: none zero, signs mixed. */
+/* The watertight test of a block's four triangles (the lanes in `lanes`), in index order:
+ * lt_intersect_watertight's steps up to the scaled distance as one SSE vector each, with the
+ * same operations in the same order, so that every lane holds the very floats that test
+ * computes for its triangle (see the top of this file). A lane whose edge functions are
+ * non-zero and of mixed signs is rejected here, as that test rejects it; a lane with one of
+ * them exactly 0 (which that test recomputes in double) takes the one-triangle test; the
+ * others are the test's candidates and go through its last steps (lt_watertight_finish) with
+ * the lane's floats. Returns 1 when an any-hit query found its hit (the rest is not tested). */
+LT_BVH8_TARGET static inline int lt_bvh8_tri4_watertight(const lt_ray_setup *r, const lt_bvh8_ray *q, const lt_tri4 *b,
+                                                         const lt_tri *t, int lanes, int any_hit, lt_hit_record *hit) {
+  /* Vertices relative to the origin, sheared and scaled into ray space (rows picked by the
+   * ray's axes, the origin's components in the same order). */
+  int kx = r->kx, ky = r->ky, kz = r->kz;
+  __m128 az = _mm_sub_ps(_mm_load_ps(b->v[kz]), q->org_kz), bz = _mm_sub_ps(_mm_load_ps(b->v[3 + kz]), q->org_kz);
+  __m128 cz = _mm_sub_ps(_mm_load_ps(b->v[6 + kz]), q->org_kz);
+  __m128 ax = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(b->v[kx]), q->org_kx), _mm_mul_ps(q->sx4, az));
+  __m128 ay = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(b->v[ky]), q->org_ky), _mm_mul_ps(q->sy4, az));
+  __m128 bx = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(b->v[3 + kx]), q->org_kx), _mm_mul_ps(q->sx4, bz));
+  __m128 by = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(b->v[3 + ky]), q->org_ky), _mm_mul_ps(q->sy4, bz));
+  __m128 cx = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(b->v[6 + kx]), q->org_kx), _mm_mul_ps(q->sx4, cz));
+  __m128 cy = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(b->v[6 + ky]), q->org_ky), _mm_mul_ps(q->sy4, cz));
+
+  /* The edge functions; the lanes the test rejects (none zero, signs mixed) and those it
+   * recomputes in double (one zero). */
   __m128 u = _mm_sub_ps(_mm_mul_ps(cx, by), _mm_mul_ps(cy, bx));
   __m128 v = _mm_sub_ps(_mm_mul_ps(ax, cy), _mm_mul_ps(ay, cx));
   __m128 w = _mm_sub_ps(_mm_mul_ps(bx, ay), _mm_mul_ps(by, ax));
@@ -143,14 +197,48 @@ LT_BVH8_TARGET static inline int lt_bvh8_tri4_candidates(const lt_ray_setup *r, 
   __m128 any_zero = _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(u, zero), _mm_cmpeq_ps(v, zero)), _mm_cmpeq_ps(w, zero));
   __m128 any_neg = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(u, zero), _mm_cmplt_ps(v, zero)), _mm_cmplt_ps(w, zero));
   __m128 any_pos = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(u, zero), _mm_cmpgt_ps(v, zero)), _mm_cmpgt_ps(w, zero));
-  __m128 rejected = _mm_andnot_ps(any_zero, _mm_and_ps(any_neg, any_pos));
-  return ~_mm_movemask_ps(rejected) & 15;
+  int zeros = _mm_movemask_ps(any_zero) & lanes;
+  int open = ~_mm_movemask_ps(_mm_or_ps(any_zero, _mm_and_ps(any_neg, any_pos))) & lanes;
+  if (!(zeros | open)) return 0;
+
+  /* The scaled distance of the candidates, then each lane in index order. */
+  __m128 t_scaled = _mm_add_ps(_mm_add_ps(_mm_mul_ps(u, _mm_mul_ps(q->sz4, az)), _mm_mul_ps(v, _mm_mul_ps(q->sz4, bz))),
+                               _mm_mul_ps(w, _mm_mul_ps(q->sz4, cz)));
+  float uu[4], vv[4], ww[4], ts[4];
+  _mm_storeu_ps(uu, u), _mm_storeu_ps(vv, v), _mm_storeu_ps(ww, w), _mm_storeu_ps(ts, t_scaled);
+  for (int todo = zeros | open; todo; todo &= todo - 1) {
+    int lane = __builtin_ctz((unsigned)todo);
+    const lt_tri *tri = &t[lane];
+    if (zeros >> lane & 1) {
+      lt_bvh8_triangle(r, tri, hit);
+    } else {
+      float v0[3] = {tri->v0.x, tri->v0.y, tri->v0.z}, v1[3] = {tri->v1.x, tri->v1.y, tri->v1.z};
+      float v2[3] = {tri->v2.x, tri->v2.y, tri->v2.z};
+      lt_watertight_finish(r, v0, v1, v2, uu[lane], vv[lane], ww[lane], ts[lane], lt_float_as_int(tri->v0.w), hit);
+    }
+    if (any_hit && hit->prim >= 0) return 1;
+  }
+  return 0;
 }
 
-/* The one-triangle test of the ray's kind on triangle t. */
-LT_BVH8_TARGET static inline void lt_bvh8_triangle(const lt_ray_setup *r, const lt_tri *t, lt_hit_record *hit) {
-  float v0[3] = {t->v0.x, t->v0.y, t->v0.z}, v1[3] = {t->v1.x, t->v1.y, t->v1.z}, v2[3] = {t->v2.x, t->v2.y, t->v2.z};
-  lt_intersect_triangle(r, v0, v1, v2, lt_float_as_int(t->v0.w), hit);
+/* A leaf's `count` triangles from position `first`, in index order: blocks of four through
+ * the vector test (`vector` and the watertight test), else one by one. Returns 1 when an
+ * any-hit query found its hit; the rest of the leaf is then not tested, either way. */
+LT_BVH8_TARGET static inline int lt_bvh8_leaf(const lt_ray_setup *r, const lt_bvh8_ray *q, const lt_tri4 *blocks,
+                                              const lt_tri *tris, lt_i32 first, lt_i32 count, int vector, int any_hit,
+                                              lt_hit_record *hit) {
+  const lt_tri *t = &tris[first];
+  if (!vector || !q->filter) {
+    for (lt_i32 k = 0; k < count; k++) {
+      lt_bvh8_triangle(r, &t[k], hit);
+      if (any_hit && hit->prim >= 0) return 1;
+    }
+    return 0;
+  }
+  const lt_tri4 *b = &blocks[first >> 2];
+  for (lt_i32 left = count; left > 0; left -= 4, b++, t += 4)
+    if (lt_bvh8_tri4_watertight(r, q, b, t, left < 4 ? (1 << left) - 1 : 15, any_hit, hit)) return 1;
+  return 0;
 }
 
 /* Traces one ray prepared with lt_ray_prepare (its flags set) through a finished 8-wide tree
@@ -167,11 +255,12 @@ LT_BVH8_TARGET static inline int lt_bvh8_traverse_with(const lt_bvh8_node *nodes
   lt_bvh8_ray q = lt_bvh8_ray_make(r);
   lt_bvh8_item stack[LT_BVH8_STACK_SIZE];
   int sp = 0;
+  lt_u32 steps = 0, tests = 0;  /* counted here, added once: c may alias the stack for the compiler */
   lt_i32 first = 0, count = -1; /* node 0, the root's children */
   while (r->valid) {
     if (count < 0) {
       /* An inner child: its children's boxes against the ray, up to the best hit so far. */
-      c->traversal_steps++;
+      steps++;
       const lt_bvh8_node *n = &nodes[first];
       float t[8];
       int mask =
@@ -206,6 +295,17 @@ LT_BVH8_TARGET static inline int lt_bvh8_traverse_with(const lt_bvh8_node *nodes
         }
         int base = sp;
         stack[sp].first = n->first[lane], stack[sp].count = n->count[lane], stack[sp].t = t[lane], sp++;
+        if (any_hit) {
+          /* Any hit: no order to keep (as Embree's occlusion traversal), the last one next. */
+          do {
+            lane = __builtin_ctz((unsigned)mask);
+            mask &= mask - 1;
+            stack[sp].first = n->first[lane], stack[sp].count = n->count[lane], stack[sp].t = t[lane], sp++;
+          } while (mask);
+          sp--;
+          first = stack[sp].first, count = stack[sp].count;
+          continue;
+        }
         do {
           lane = __builtin_ctz((unsigned)mask);
           mask &= mask - 1;
@@ -219,31 +319,19 @@ LT_BVH8_TARGET static inline int lt_bvh8_traverse_with(const lt_bvh8_node *nodes
         continue;
       }
     } else {
-      /* A leaf: a small one triangle by triangle, a big one four at a time through the filter. */
-      c->intersections += (lt_u32)count;
-      const lt_tri *t = &tris[first];
-      if (count < LT_BVH8_FILTER_MIN || !vector || !q.filter) {
-        for (lt_i32 k = 0; k < count; k++) lt_bvh8_triangle(r, &t[k], &hit);
-      } else {
-        const lt_tri4 *b = &blocks[first >> 2];
-        for (lt_i32 left = count; left > 0; left -= 4, b++, t += 4) {
-          int lanes = (left < 4 ? (1 << left) - 1 : 15) & lt_bvh8_tri4_candidates(r, &q, b);
-          while (lanes) {
-            lt_bvh8_triangle(r, &t[__builtin_ctz((unsigned)lanes)], &hit);
-            lanes &= lanes - 1;
-          }
-        }
-      }
-      if (any_hit && hit.prim >= 0) break;
+      /* A leaf: four triangles at a time. */
+      tests += (lt_u32)count;
+      if (lt_bvh8_leaf(r, &q, blocks, tris, first, count, vector, any_hit, &hit)) break;
     }
 
     /* The nearest pending child the best hit does not rule out (ties are kept: a triangle at
-     * the same distance with a lower number still wins). */
-    while (sp > 0 && stack[sp - 1].t > hit.t) sp--;
+     * the same distance with a lower number still wins). An any-hit query has none yet. */
+    while (!any_hit && sp > 0 && stack[sp - 1].t > hit.t) sp--;
     if (sp == 0) break;
     sp--;
     first = stack[sp].first, count = stack[sp].count;
   }
+  c->traversal_steps += steps, c->intersections += tests;
   *out = hit;
   return status;
 }

@@ -44,36 +44,37 @@ LT_DEVICE float lt_clamp_to_box(const lt_ray_setup *r, const float *v0, const fl
  * one, or runs along its line, are zero in exact arithmetic but not always after the shear's
  * rounding, which made it report hits at t = 0; tested only once a hit is found, so that the
  * cost is paid per hit, not per test. In double where the device has it: the differences of
- * floats are then exact, and the products nearly so. */
-LT_DEVICE int lt_triangle_degenerate(const float *v0, const float *v1, const float *v2) {
-#ifdef LT_HAVE_DOUBLE
-  double e1[3], e2[3];
-  for (int k = 0; k < 3; k++) e1[k] = (double)v1[k] - (double)v0[k], e2[k] = (double)v2[k] - (double)v0[k];
-#else
-  float e1[3], e2[3];
-  for (int k = 0; k < 3; k++) e1[k] = v1[k] - v0[k], e2[k] = v2[k] - v0[k];
-#endif
-  return e1[1] * e2[2] - e1[2] * e2[1] == 0 && e1[2] * e2[0] - e1[0] * e2[2] == 0 && e1[0] * e2[1] - e1[1] * e2[0] == 0;
-}
-
-/* The distance of a confirmed hit, from the triangle's plane in double where the device has
- * it. Which triangle is hit is the watertight test's decision; its own distance, a weighted
- * mean of the sheared vertices' depths, loses digits on long slivers (weights from edge
- * functions that nearly cancel): 3% off on 60-by-0.02 triangles, where the plane's distance in
- * double is within a rounding of the true one. Paid per hit, not per test. A ray in the
- * plane, or a device without double, keeps the test's own distance. */
-LT_DEVICE float lt_hit_distance(const lt_ray_setup *r, const float *v0, const float *v1, const float *v2, float t) {
+ * floats are then exact, and the products nearly so.
+ *
+ * The distance of such a hit, from the triangle's plane in double where the device has it.
+ * Which triangle is hit is the watertight test's decision; its own distance t, a weighted mean
+ * of the sheared vertices' depths, loses digits on long slivers (weights from edge functions
+ * that nearly cancel): 3% off on 60-by-0.02 triangles, where the plane's distance in double is
+ * within a rounding of the true one. A ray in the plane, or a device without double, keeps the
+ * test's own distance.
+ *
+ * Both in one: the plane's normal is the cross product the degeneracy test looks at, computed
+ * once. Returns 0 for a triangle without area, else 1 with the distance in *dist. */
+LT_DEVICE int lt_hit_distance_checked(const lt_ray_setup *r, const float *v0, const float *v1, const float *v2,
+                                      float t, float *dist) {
 #ifdef LT_HAVE_DOUBLE
   double e1[3], e2[3], n[3], num = 0.0, den = 0.0;
   for (int k = 0; k < 3; k++) e1[k] = (double)v1[k] - (double)v0[k], e2[k] = (double)v2[k] - (double)v0[k];
   n[0] = e1[1] * e2[2] - e1[2] * e2[1];
   n[1] = e1[2] * e2[0] - e1[0] * e2[2];
   n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  if (n[0] == 0 && n[1] == 0 && n[2] == 0) return 0;
   for (int k = 0; k < 3; k++) num += n[k] * ((double)v0[k] - (double)r->org[k]), den += n[k] * (double)r->dir[k];
   double plane = num / den;
-  if (den != 0.0 && plane == plane && plane < 3.0e38 && plane > -3.0e38) return (float)plane;
+  *dist = den != 0.0 && plane == plane && plane < 3.0e38 && plane > -3.0e38 ? (float)plane : t;
+#else
+  float e1[3], e2[3];
+  for (int k = 0; k < 3; k++) e1[k] = v1[k] - v0[k], e2[k] = v2[k] - v0[k];
+  if (e1[1] * e2[2] - e1[2] * e2[1] == 0 && e1[2] * e2[0] - e1[0] * e2[2] == 0 && e1[0] * e2[1] - e1[1] * e2[0] == 0)
+    return 0;
+  *dist = t;
 #endif
-  return t;
+  return 1;
 }
 
 /* Records a hit in [tmin, tmax] that beats the one in hit. */
@@ -85,6 +86,20 @@ LT_DEVICE int lt_record_hit(const lt_ray_setup *r, float t, float u, float v, in
   hit->v = v;
   hit->prim = prim;
   return 1;
+}
+
+/* The watertight test's last steps, for a triangle whose edge functions u, v, w (recomputed
+ * in double where one was 0) are of one sign, with the scaled distance t_scaled = u * az +
+ * v * bz + w * cz: the one division, the area and distance checks, the clamp and the record.
+ * Shared by the one-triangle test and the native 8-wide path's four-triangle one, which
+ * computes the same floats lane by lane. */
+LT_DEVICE int lt_watertight_finish(const lt_ray_setup *r, const float *v0, const float *v1, const float *v2, float u,
+                                   float v, float w, float t_scaled, int prim, lt_hit_record *hit) {
+  float det = u + v + w, t;
+  if (det == 0.0f) return 0;
+  float inv_det = 1.0f / det;
+  if (!lt_hit_distance_checked(r, v0, v1, v2, t_scaled * inv_det, &t)) return 0;
+  return lt_record_hit(r, lt_clamp_to_box(r, v0, v1, v2, t), v * inv_det, w * inv_det, prim, hit);
 }
 
 /* The watertight test of the triangle (v0, v1, v2) numbered prim. */
@@ -117,15 +132,11 @@ LT_DEVICE int lt_intersect_watertight(const lt_ray_setup *r, const float *v0, co
 
   /* The ray passes outside an edge: mixed signs. Both windings are hit. */
   if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return 0;
-  float det = u + v + w;
-  if (det == 0.0f || lt_triangle_degenerate(v0, v1, v2)) return 0;
 
-  /* Scaled hit distance, then the one division. */
+  /* Scaled hit distance. */
   float az = r->sz * a[r->kz], bz = r->sz * b[r->kz], cz = r->sz * c[r->kz];
   float t_scaled = u * az + v * bz + w * cz;
-  float inv_det = 1.0f / det;
-  float t = lt_clamp_to_box(r, v0, v1, v2, lt_hit_distance(r, v0, v1, v2, t_scaled * inv_det));
-  return lt_record_hit(r, t, v * inv_det, w * inv_det, prim, hit);
+  return lt_watertight_finish(r, v0, v1, v2, u, v, w, t_scaled, prim, hit);
 }
 
 /* The Moller-Trumbore test: barycentrics from two cross products, edges included. */
@@ -147,9 +158,10 @@ LT_DEVICE int lt_intersect_fast(const lt_ray_setup *r, const float *v0, const fl
   q[1] = s[2] * e1[0] - s[0] * e1[2];
   q[2] = s[0] * e1[1] - s[1] * e1[0];
   float v = (r->dir[0] * q[0] + r->dir[1] * q[1] + r->dir[2] * q[2]) * inv_det;
-  if (!(v >= 0.0f && u + v <= 1.0f) || lt_triangle_degenerate(v0, v1, v2)) return 0;
-  float t = lt_clamp_to_box(r, v0, v1, v2, lt_hit_distance(r, v0, v1, v2, (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) * inv_det));
-  return lt_record_hit(r, t, u, v, prim, hit);
+  if (!(v >= 0.0f && u + v <= 1.0f)) return 0;
+  float t;
+  if (!lt_hit_distance_checked(r, v0, v1, v2, (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) * inv_det, &t)) return 0;
+  return lt_record_hit(r, lt_clamp_to_box(r, v0, v1, v2, t), u, v, prim, hit);
 }
 
 /* Tests the triangle (v0, v1, v2) numbered prim with the ray's test; on a better hit in
