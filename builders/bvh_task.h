@@ -72,7 +72,6 @@ typedef struct lt_bvh_build {
   LT_GLOBAL lt_u32 *counters;    /* LT_BVH_STAT_COUNT per work-group */
   LT_GLOBAL const lt_u32 *codes; /* Morton top: per position, the sorted Morton codes */
   LT_GLOBAL const lt_v4 *block_boxes; /* Morton top: the pyramid of block boxes (bvh_morton.h) */
-  LT_GLOBAL const lt_i32 *order; /* Morton top: per sorted position, its triangle (see lt_bvh_leaf_refs) */
   lt_heap node_heap;             /* hands out nodes */
   lt_i32 task_kind;              /* the number the running workload gave these tasks */
   lt_i32 slab_count, max_leaf, bins;
@@ -96,7 +95,6 @@ typedef struct lt_bvh_build {
   X(BUF, lt_u32, V.counters, counters)                 \
   X(BUF, lt_u32, V.codes, codes)                       \
   X(BUF, lt_v4, V.block_boxes, block_boxes)            \
-  X(BUF, lt_i32, V.order, order)                       \
   LT_HEAP_ARGS(X, V.node_heap, node_heap)              \
   X(VAL, lt_i32, V.task_kind, task_kind)               \
   X(VAL, lt_i32, V.slab_count, slab_count)             \
@@ -123,21 +121,13 @@ LT_DEVICE lt_box lt_load_box(LT_GLOBAL const lt_i32 *w) {
 /* Partitions ping-pong: the references of a node at an even depth lie in index, at an odd
  * depth in scratch, so that a partition writes its children's straight into the other array
  * and nothing is copied back. A leaf at an odd depth moves its own few into index, where
- * traversal reads them.
- * With the Morton top, a reference is a sorted position until its leaf is made, and
- * prim_boxes holds the boxes in sorted order: the SAH nodes below the top then gather the boxes
- * of a few thousand neighbouring positions, which stay in cache level after level, instead of
- * boxes strewn over the whole array. A leaf turns its positions into triangles (order), once
- * each, in index. */
+ * traversal reads them. */
 LT_DEVICE LT_GLOBAL lt_i32 *lt_bvh_refs(const lt_bvh_build *b, lt_i32 depth) {
   return (depth & 1) ? b->scratch : b->index;
 }
 LT_DEVICE void lt_bvh_leaf_refs(const lt_bvh_build *b, lt_i32 depth, lt_i32 begin, lt_i32 end) {
-  LT_GLOBAL const lt_i32 *refs = lt_bvh_refs(b, depth);
-  if (b->morton_blocks > 0)
-    for (lt_i32 i = begin; i < end; i++) b->index[i] = b->order[refs[i]];
-  else if (depth & 1)
-    for (lt_i32 i = begin; i < end; i++) b->index[i] = refs[i];
+  if (depth & 1)
+    for (lt_i32 i = begin; i < end; i++) b->index[i] = b->scratch[i];
 }
 
 /* Whether the node over [begin, end) at `depth` is one of the Morton top's: more than

@@ -35,40 +35,34 @@ static lt_status per_frame_buffer(lt__ondemand *od, int slot, lt__buffer *buffer
   return status;
 }
 
-/* The Morton top's buffers: the sorted codes, the block boxes, the triangle at each sorted
- * position (order) and the triangles' boxes in that order (sorted, prim_boxes' contents); the
- * references in index and scratch (the partitions' ping-pong, see builders/bvh_task.h) are the
- * sorted positions, in order, until leaves turn them into triangles. `boxes` are the triangles'
- * boxes in scene order. The sort runs on one host thread per work-group, at most one per core. */
-static lt_status morton_order(lt__ondemand *od, const float *boxes, float *sorted, int *index) {
+/* The Morton top's buffers: the triangles in code order go into both index and scratch (the
+ * partitions' ping-pong, see builders/bvh_task.h), beside the sorted codes and block boxes. The
+ * sort runs on one host thread per work-group, at most one per core. */
+static lt_status morton_order(lt__ondemand *od, const float *boxes, int *index) {
   lt_context *ctx = od->ctx;
   size_t n = (size_t)od->count, blocks = lt__morton_block_count(n);
   od->morton_blocks = (od->count + LT_BVH_MORTON_BLOCK - 1) / LT_BVH_MORTON_BLOCK;
   lt_status status = per_frame_buffer(od, LT__KEEP_CODES, &od->codes, n * 4);
   if (!status) status = per_frame_buffer(od, LT__KEEP_BLOCKS, &od->block_boxes, blocks * 8 * sizeof(float));
-  if (!status) status = per_frame_buffer(od, LT__KEEP_ORDER, &od->order, n * 4);
   if (status) return status;
   uint32_t *codes = lt__buffer_begin_write(ctx, &od->codes);
   float *block_boxes = lt__buffer_begin_write(ctx, &od->block_boxes);
-  int *scratch = lt__buffer_begin_write(ctx, &od->scratch), *order = lt__buffer_begin_write(ctx, &od->order);
+  int *scratch = lt__buffer_begin_write(ctx, &od->scratch);
   int workers = lt_context_work_groups(ctx), cores = lt__native_threads();
   lt__executor executor = {workers < cores ? workers : cores, lt__native_run};
   size_t work_bytes;
   void *work = lt__context_take(ctx, LT__KEEP_SORT, lt__morton_work_bytes(n), &work_bytes);
-  status = codes && block_boxes && scratch && order && work
-               ? LT_OK
-               : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a Morton order");
+  status = codes && block_boxes && scratch && work ? LT_OK
+                                                   : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a Morton order");
   if (!status)
-    status = lt__morton_order(boxes, n, &od->bounds, &executor, work, codes, (int32_t *)order, block_boxes, sorted,
-                              &od->sort_ops);
-  for (int i = 0; !status && i < od->count; i++) index[i] = scratch[i] = i;
+    status =
+        lt__morton_order(boxes, n, &od->bounds, &executor, work, codes, (int32_t *)index, block_boxes, &od->sort_ops);
+  if (!status) memcpy(scratch, index, n * sizeof *index);
   lt__context_give(ctx, LT__KEEP_SORT, work, work_bytes);
   /* Always hand the staging copies back, whatever happened. */
   lt_status uploaded = codes ? lt__buffer_end_write(ctx, &od->codes, codes) : LT_OK;
   if (!status) status = uploaded;
   uploaded = block_boxes ? lt__buffer_end_write(ctx, &od->block_boxes, block_boxes) : LT_OK;
-  if (!status) status = uploaded;
-  uploaded = order ? lt__buffer_end_write(ctx, &od->order, order) : LT_OK;
   if (!status) status = uploaded;
   uploaded = scratch ? lt__buffer_end_write(ctx, &od->scratch, scratch) : LT_OK;
   return status ? status : uploaded;
@@ -97,16 +91,9 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
     float *boxes = lt__buffer_begin_write(ctx, &od->prim_boxes);
     int *index = lt__buffer_begin_write(ctx, &od->index);
     status = boxes && index ? LT_OK : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for %zu triangles", n);
-    /* With the Morton top the boxes are computed in scene order elsewhere and written here in
-     * code order; without, here and in scene order. */
-    int morton = od->morton_above < od->count;
-    size_t scene_bytes = 0;
-    float *scene_boxes = !morton ? boxes : lt__context_take(ctx, LT__KEEP_SCENE_BOXES, n * 8 * sizeof(float), &scene_bytes);
-    if (!status && !scene_boxes) status = lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for %zu triangles", n);
-    if (!status) status = lt__triangle_boxes(scene, scene_boxes, &od->bounds);
-    if (!status && morton) status = morton_order(od, scene_boxes, boxes, index);
-    if (morton) lt__context_give(ctx, LT__KEEP_SCENE_BOXES, scene_boxes, scene_bytes);
-    for (int i = 0; !status && !morton && i < od->count; i++) index[i] = i;
+    if (!status) status = lt__triangle_boxes(scene, boxes, &od->bounds);
+    if (!status && od->morton_above < od->count) status = morton_order(od, boxes, index);
+    for (int i = 0; !status && od->morton_above == od->count && i < od->count; i++) index[i] = i;
     /* Always hand the staging copies back (OpenCL frees them), whatever happened. */
     lt_status uploaded = boxes ? lt__buffer_end_write(ctx, &od->prim_boxes, boxes) : LT_OK;
     if (!status) status = uploaded;
@@ -116,7 +103,6 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
   if (!status) status = lt__buffer_create(ctx, &od->side, n * 4, NULL, LT_BUFFER_UNINIT);
   if (!status && od->morton_above == od->count) status = lt__buffer_create(ctx, &od->codes, 16, NULL, 0);
   if (!status && od->morton_above == od->count) status = lt__buffer_create(ctx, &od->block_boxes, 32, NULL, 0);
-  if (!status && od->morton_above == od->count) status = lt__buffer_create(ctx, &od->order, 16, NULL, 0);
   if (!status) status = lt__buffer_create(ctx, &od->chunk_left, n * 4, NULL, LT_BUFFER_UNINIT);
   if (!status)
     status = lt__buffer_create(ctx, &od->nodes, (size_t)node_capacity * sizeof(lt_bvh_node), NULL, LT_BUFFER_UNINIT);
@@ -148,7 +134,7 @@ void lt__ondemand_release(lt__ondemand *od) {
   lt__heap_release(&od->node_heap);
   lt__buffer *buffers[] = {&od->verts, &od->prim_boxes, &od->side,  &od->index,   &od->scratch,
                            &od->chunk_left, &od->nodes, &od->slabs, &od->slab_used, &od->counters,
-                           &od->codes,      &od->block_boxes, &od->order};
+                           &od->codes,      &od->block_boxes};
   for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++) lt__buffer_release(buffers[i]);
   for (int slot = 0; slot < 8; slot++)
     if (od->kept[slot]) lt__context_give(od->ctx, slot, od->kept[slot], od->kept_bytes[slot]), od->kept[slot] = NULL;
@@ -168,7 +154,7 @@ static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, in
   args.verts = &od->verts, args.prim_boxes = &od->prim_boxes, args.side = &od->side, args.index = &od->index;
   args.scratch = &od->scratch, args.chunk_left = &od->chunk_left, args.nodes = &od->nodes;
   args.slabs = &od->slabs, args.slab_used = &od->slab_used, args.counters = &od->counters;
-  args.codes = &od->codes, args.block_boxes = &od->block_boxes, args.order = &od->order;
+  args.codes = &od->codes, args.block_boxes = &od->block_boxes;
   args.morton_above = od->morton_above, args.morton_blocks = od->morton_blocks;
   args.task_kind = 0; /* the kernel numbers its own task kinds */
   args.slab_count = od->slab_count, args.max_leaf = od->sah.max_leaf_size, args.bins = od->sah.bins;
@@ -251,5 +237,5 @@ double lt__ondemand_bytes(const lt__ondemand *od, double *node_bytes, double *re
   *pool_bytes = (double)(od->pool.headers.bytes + od->pool.tasks.bytes + od->pool.empty_cache.bytes +
                          od->pool.priority_cache.bytes + od->pool.control.bytes + od->slabs.bytes);
   return *node_bytes + *reference_bytes + *pool_bytes + od->prim_boxes.bytes + od->side.bytes +
-         od->scratch.bytes + od->chunk_left.bytes + od->codes.bytes + od->block_boxes.bytes + od->order.bytes;
+         od->scratch.bytes + od->chunk_left.bytes + od->codes.bytes + od->block_boxes.bytes;
 }

@@ -13,7 +13,6 @@ typedef struct lt__ondemand {
   lt__heap node_heap;
   lt__buffer verts, prim_boxes, side, index, scratch, chunk_left, nodes, slabs, slab_used, counters;
   lt__buffer codes, block_boxes; /* the Morton top's sorted codes and block boxes (16 bytes without one) */
-  lt__buffer order;              /* the Morton top's triangle per sorted position (16 bytes without one) */
   int count;          /* triangles */
   lt_box bounds;       /* the scene's */
   int slab_count;

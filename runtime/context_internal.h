@@ -39,16 +39,7 @@ struct lt_context {
 
 /* What the kept arrays hold: the on-demand BVH's per-frame arrays on the native backend, and the
  * Morton sort's working memory. */
-enum {
-  LT__KEEP_SORT,
-  LT__KEEP_BOXES,
-  LT__KEEP_INDEX,
-  LT__KEEP_SCRATCH,
-  LT__KEEP_CODES,
-  LT__KEEP_BLOCKS,
-  LT__KEEP_ORDER,      /* the Morton top's triangle per sorted position */
-  LT__KEEP_SCENE_BOXES /* the Morton top's triangle boxes in scene order, before the sort */
-};
+enum { LT__KEEP_SORT, LT__KEEP_BOXES, LT__KEEP_INDEX, LT__KEEP_SCRATCH, LT__KEEP_CODES, LT__KEEP_BLOCKS };
 
 /* Host memory of at least `bytes` (16-byte aligned) for a structure that rebuilds every frame:
  * the array last given back to this slot when it is large enough, so that its pages are mapped

@@ -27,7 +27,6 @@ typedef struct sort_job {
   uint32_t *codes;
   int32_t *index;
   lt_v4 *blocks;
-  lt_v4 *sorted; /* the boxes in code order, or NULL */
 } sort_job;
 
 static int chunk_end(const sort_job *j, int chunk) {
@@ -71,8 +70,8 @@ static void codes_chunk(void *job, int chunk) {
   }
 }
 
-/* Sorted codes and triangle numbers out of the keys, the bottom level's block boxes (a chunk is
- * a whole number of blocks) and, when asked for, the boxes in code order. */
+/* Sorted codes and triangle numbers out of the keys, and the bottom level's block boxes (a
+ * chunk is a whole number of blocks). */
 static void unpack_chunk(void *job, int chunk) {
   sort_job *j = job;
   const lt_v4 *boxes = (const lt_v4 *)j->boxes;
@@ -85,9 +84,7 @@ static void unpack_chunk(void *job, int chunk) {
     for (int p = i; p < end; p++) {
       uint32_t t = (uint32_t)j->keys[p];
       j->codes[p] = (uint32_t)(j->keys[p] >> 32), j->index[p] = (int32_t)t;
-      lt_v4 blo = boxes[2 * (size_t)t], bhi = boxes[2 * (size_t)t + 1];
-      if (j->sorted) j->sorted[2 * (size_t)p] = blo, j->sorted[2 * (size_t)p + 1] = bhi;
-      lo = lt_v4_min(blo, lo), hi = lt_v4_max(bhi, hi);
+      lo = lt_v4_min(boxes[2 * (size_t)t], lo), hi = lt_v4_max(boxes[2 * (size_t)t + 1], hi);
     }
     j->blocks[2 * (i / LT_BVH_MORTON_BLOCK)] = lo, j->blocks[2 * (i / LT_BVH_MORTON_BLOCK) + 1] = hi;
   }
@@ -107,12 +104,11 @@ size_t lt__morton_work_bytes(size_t n) {
 }
 
 lt_status lt__morton_order(const float *boxes, size_t n, const lt_box *bounds, const lt__executor *executor, void *work,
-                           uint32_t *codes, int32_t *index, float *block_boxes, float *sorted_boxes,
-                           double *sort_ops) {
+                           uint32_t *codes, int32_t *index, float *block_boxes, double *sort_ops) {
   if (!boxes || !bounds || !codes || !index || !block_boxes || n == 0 || n > INT32_MAX / 2)
     return LT_ERROR_INVALID_ARGUMENT;
   sort_job j = {.boxes = boxes, .n = (int)n, .chunks = (int)((n + CHUNK - 1) / CHUNK)};
-  j.codes = codes, j.index = index, j.blocks = (lt_v4 *)block_boxes, j.sorted = (lt_v4 *)sorted_boxes;
+  j.codes = codes, j.index = index, j.blocks = (lt_v4 *)block_boxes;
   for (int k = 0; k < 3; k++) {
     float extent = bounds->hi[k] - bounds->lo[k];
     j.lo[k] = bounds->lo[k], j.scale[k] = extent > 0.0f ? (float)(1 << AXIS_BITS) / extent : 0.0f;

@@ -28,13 +28,10 @@ size_t lt__morton_work_bytes(size_t n);
  * order; those 20 bits are the codes written. boxes holds 8
  * floats per triangle (lo xyz 0, hi xyz 0). Writes the sorted codes, the triangle numbers in
  * that order, and the pyramid of block boxes (2 lt_v4 each, lt__morton_block_count(n) of
- * them) and, unless sorted_boxes is NULL, the boxes in that order (8 floats a triangle: the box
- * of the triangle at sorted position p at 8 * p); adds n per radix pass to *sort_ops. `work` is
- * lt__morton_work_bytes(n) bytes, 8-byte
+ * them); adds n per radix pass to *sort_ops. `work` is lt__morton_work_bytes(n) bytes, 8-byte
  * aligned, that a caller rebuilding every frame keeps (NULL: allocated here). The loops run on
  * the executor's workers (NULL: the caller); the order is the same whatever their number. */
 lt_status lt__morton_order(const float *boxes, size_t n, const lt_box *bounds, const lt__executor *executor, void *work,
-                           uint32_t *codes, int32_t *index, float *block_boxes, float *sorted_boxes,
-                           double *sort_ops);
+                           uint32_t *codes, int32_t *index, float *block_boxes, double *sort_ops);
 
 #endif
