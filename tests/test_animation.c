@@ -227,8 +227,8 @@ static void animation_town_frames_match_brute_force(void **state) {
       if (v < 4) sc.build = v % 2 ? LT_BUILD_SPECULATIVE : LT_BUILD_REQUESTED;
       if (v >= 2 && v < 4) sc.bvh_top = LT_BVH_TOP_MORTON;
       char what[96];
-      snprintf(what, sizeof what, "town frame %d: %s %s%s", f, v < 4 ? "bvh" : "lbvh", v < 4 ? lt_build_mode_name(sc.build) : "",
-               v >= 2 && v < 4 ? " morton top" : "");
+      snprintf(what, sizeof what, "town frame %d: %s %s%s", f, v < 4 ? "bvh" : "lbvh",
+               v < 4 ? lt_build_mode_name(sc.build) : "", v >= 2 && v < 4 ? " morton top" : "");
       size_t bad = lt_test_backend_mismatches(what, scene, &sc, rays, n, ref, ref_any);
       if (bad) fail_msg("%s: %zu rays differ from brute force", what, bad);
     }
