@@ -10,7 +10,9 @@
  * diffuse rays from the full BVH's primary hits: the same rays for every method) and runs every
  * method on them, methods interleaved frame by frame and run by run. A method's figure is the
  * median over runs of its mean over frames. The lazytrace methods' closest hits are checked
- * against the full build's, frame by frame. Markdown to stdout, CSV to --csv FILE. */
+ * against the full build's, frame by frame. Markdown to stdout (the table, then a line per scene:
+ * the triangles that move, the distinct triangles the camera rays hit, and the nodes BVH_R builds
+ * against the full BVH's), CSV to --csv FILE. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
