@@ -10,7 +10,9 @@
  * diffuse rays from the full BVH's primary hits: the same rays for every method) and runs every
  * method on them, methods interleaved frame by frame and run by run. A method's figure is the
  * median over runs of its mean over frames. The lazytrace methods' closest hits are checked
- * against the full build's, frame by frame. Markdown to stdout, CSV to --csv FILE. */
+ * against the full build's, frame by frame. Markdown to stdout (the table, then a line per scene:
+ * the triangles that move, the distinct triangles the camera rays hit, and the nodes BVH_R builds
+ * against the full BVH's), CSV to --csv FILE. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -28,13 +30,14 @@
 enum { FULL = LT_BENCH_FULL, EMBREE = LT_BENCH_EMBREE, EMBREE_LOW = LT_BENCH_EMBREE_LOW };
 
 /* The table's columns, in order: every method, or (--methods peers) the full BVH (whose hits
- * are the check), the per-frame peers and the on-demand BVH with either top. */
+ * are the check), the on-demand BVH with either top and the per-frame peers (the LBVH, Embree's
+ * low-quality and default builds). */
 static const int all_columns[] = {LT_BENCH_FULL,    LT_BENCH_REQUESTED,    LT_BENCH_SPECULATIVE,
                                   LT_BENCH_REQUESTED_MORTON, LT_BENCH_SPECULATIVE_MORTON,
                                   LT_BENCH_KD_FULL, LT_BENCH_KD_REQUESTED, LT_BENCH_KD_SPECULATIVE,
                                   LT_BENCH_LBVH,    LT_BENCH_EMBREE_LOW,   LT_BENCH_EMBREE};
-static const int peer_columns[] = {LT_BENCH_FULL, LT_BENCH_REQUESTED, LT_BENCH_SPECULATIVE, LT_BENCH_REQUESTED_MORTON,
-                                   LT_BENCH_SPECULATIVE_MORTON, LT_BENCH_LBVH, LT_BENCH_EMBREE_LOW};
+static const int peer_columns[] = {LT_BENCH_FULL,   LT_BENCH_REQUESTED,  LT_BENCH_SPECULATIVE, LT_BENCH_REQUESTED_MORTON,
+                                   LT_BENCH_SPECULATIVE_MORTON, LT_BENCH_LBVH, LT_BENCH_EMBREE_LOW, LT_BENCH_EMBREE};
 static const int *columns = all_columns;
 static int COLUMNS = (int)(sizeof all_columns / sizeof *all_columns);
 
@@ -70,6 +73,45 @@ typedef struct figures {
   int ok;
 } figures;
 
+/* What a scene's animation moves and what its primary rays reach, for the notes under the
+ * table: triangles that leave their place in some frame, and the distinct triangles the camera
+ * rays hit, averaged over the frames. */
+typedef struct reach {
+  size_t moving, triangles;
+  double hit, nodes_full, nodes_requested;
+} reach;
+
+#define MAX_SCENES 16
+static reach reached[MAX_SCENES];
+
+/* The triangles that are somewhere else in some frame than at time 0. */
+static size_t moving_triangles(lt_scene *scene, int frames) {
+  size_t n = lt_scene_triangle_count(scene), moving = 0;
+  float *rest = malloc(n * 9 * sizeof *rest);
+  unsigned char *moved = calloc(n ? n : 1, 1);
+  if (!rest || !moved) return free(rest), free(moved), 0;
+  lt_scene_set_time(scene, 0.0);
+  memcpy(rest, lt_scene_triangles(scene), n * 9 * sizeof *rest);
+  for (int frame = 1; frame < frames; frame++) {
+    lt_scene_set_time(scene, lt_frame_time(frame, frames));
+    const float *now = lt_scene_triangles(scene);
+    for (size_t i = 0; i < n; i++)
+      if (!moved[i] && memcmp(now + 9 * i, rest + 9 * i, 9 * sizeof *rest) != 0) moved[i] = 1, moving++;
+  }
+  lt_scene_set_time(scene, 0.0);
+  free(rest), free(moved);
+  return moving;
+}
+
+/* The distinct triangles hit by `count` closest hits. */
+static size_t distinct_hits(const lt_hit *hits, size_t count, size_t triangles, unsigned char *seen) {
+  size_t distinct = 0;
+  memset(seen, 0, triangles);
+  for (size_t i = 0; i < count; i++)
+    if (hits[i].prim >= 0 && (size_t)hits[i].prim < triangles && !seen[hits[i].prim]) seen[hits[i].prim] = 1, distinct++;
+  return distinct;
+}
+
 /* One frame of one method: build, then the batches (rays[0] closest hit, rays[1] if any, of
  * the workload's query); the last batch's hits in hits. Returns nonzero on failure. */
 static int run_frame(const lt_scene *scene, int method, const lt_ray *const rays[2], const size_t count[2], int any,
@@ -101,11 +143,12 @@ static int run_frame(const lt_scene *scene, int method, const lt_ray *const rays
 
 /* Every frame of one workload, every method, `runs` times. */
 static int run_workload(lt_scene *scene, workload w, int runs, int size, int frames, int samples, float ao_distance,
-                        figures f[METHODS]) {
+                        figures f[METHODS], reach *r) {
   size_t n = (size_t)size * size, most = n * (size_t)samples;
   lt_ray *primary = malloc(n * sizeof *primary), *secondary = malloc((most + 1) * sizeof *secondary);
   lt_hit *ref = malloc((most + 1) * sizeof *ref), *hits = malloc((most + 1) * sizeof *hits);
-  if (!primary || !secondary || !ref || !hits) return fprintf(stderr, "out of memory\n"), 1;
+  unsigned char *seen = malloc(r->triangles ? r->triangles : 1);
+  if (!primary || !secondary || !ref || !hits || !seen) return fprintf(stderr, "out of memory\n"), 1;
   memset(f, 0, METHODS * sizeof *f);
   int failed = 0;
   for (int frame = 0; frame < frames && !failed; frame++) {
@@ -145,10 +188,11 @@ static int run_workload(lt_scene *scene, workload w, int runs, int size, int fra
               break;
             }
       }
+    if (w == PRIMARY && !failed) r->hit += (double)distinct_hits(ref, n, r->triangles, seen) / frames;
     fprintf(stderr, "  %s, frame %d of %d: %zu rays\n", workload_names[w], frame + 1, frames, count[0] + count[1]);
   }
   lt_scene_set_time(scene, 0.0);
-  free(primary), free(secondary), free(ref), free(hits);
+  free(primary), free(secondary), free(ref), free(hits), free(seen);
   return failed;
 }
 
@@ -195,9 +239,15 @@ int main(int argc, char **argv) {
     lt_scene_bounds(scene, lo, hi);
     float diag = sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                        (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    reach *r = &reached[i - first < MAX_SCENES ? i - first : MAX_SCENES - 1];
+    r->triangles = lt_scene_triangle_count(scene), r->moving = moving_triangles(scene, frames), r->hit = 0;
     for (int w = 0; w < WORKLOADS; w++) {
       figures f[METHODS];
-      if (run_workload(scene, (workload)w, runs, size, frames, samples, 0.05f * diag, f)) return 1;
+      if (run_workload(scene, (workload)w, runs, size, frames, samples, 0.05f * diag, f, r)) return 1;
+      if (w == PRIMARY) {
+        r->nodes_full = f[FULL].nodes / frames;
+        r->nodes_requested = f[LT_BENCH_REQUESTED].ok ? f[LT_BENCH_REQUESTED].nodes / frames : -1;
+      }
       if (w == PRIMARY) printf("| %s, primary |", argv[i]);
       else printf("| %s, %s (%d samples) |", argv[i], workload_names[w], samples);
       double best = INFINITY;
@@ -216,6 +266,19 @@ int main(int argc, char **argv) {
       fflush(stdout);
     }
     lt_scene_destroy(scene);
+  }
+
+  /* Under the table: what each scene moves and what its primary rays reach. */
+  printf("\n");
+  for (int i = first; i < argc && i - first < MAX_SCENES; i++) {
+    const reach *r = &reached[i - first];
+    printf("- %s: %zu of %zu triangles move (%.2f%%); the primary rays hit %.0f distinct triangles a frame "
+           "(%.2f%%)", argv[i], r->moving, r->triangles, 100.0 * r->moving / r->triangles, r->hit,
+           100.0 * r->hit / r->triangles);
+    if (r->nodes_requested >= 0 && r->nodes_full > 0)
+      printf("; the requested BVH builds %.0f of the full BVH's %.0f nodes a frame (%.1f%%)", r->nodes_requested,
+             r->nodes_full, 100.0 * r->nodes_requested / r->nodes_full);
+    printf("\n");
   }
   if (csv) fclose(csv);
   return 0;

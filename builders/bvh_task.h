@@ -187,16 +187,27 @@ LT_DEVICE void lt_bvh_finish_leaf(const lt_bvh_build *b, lt_i32 slot) {
  * boxes through the index, and most of a pass's time was waiting for them. */
 #define LT_PREFETCH 16
 
-/* Bins the primitives at positions lo, lo + step, ... below hi into private bins over the
- * node's box `grid`. When every primitive is binned (step 1 of the node), each position's
- * packed bins go to side[], so that the partition needs no box again. */
+/* With the Morton top, a node of at most LT_BVH_FEW primitives below it is priced on
+ * LT_BVH_FEW_BINS bins per axis instead of b->bins: most nodes a frame prices there are that
+ * small, and clearing and pricing all bins, a fixed cost per node, weighed as much as binning
+ * their primitives. The tree below the top changes; full, requested and speculative builds
+ * still make the same one. */
+#define LT_BVH_FEW 64
+#define LT_BVH_FEW_BINS 8
+LT_DEVICE int lt_bvh_node_bins(const lt_bvh_build *b, lt_i32 n) {
+  return b->morton_blocks > 0 && n <= LT_BVH_FEW && LT_BVH_FEW_BINS < b->bins ? LT_BVH_FEW_BINS : b->bins;
+}
+
+/* Bins the primitives at positions lo, lo + step, ... below hi into private bins (nbins per
+ * axis) over the node's box `grid`. When every primitive is binned (step 1 of the node), each
+ * position's packed bins go to side[], so that the partition needs no box again. */
 LT_DEVICE void lt_bvh_bin_range(const lt_bvh_build *b, LT_GLOBAL const lt_i32 *refs, lt_i32 lo, lt_i32 hi,
-                                lt_i32 step, int record, const lt_box *grid, lt_bins *bins) {
-  lt_v4 glo = lt_box_lo4(grid), scale = lt_bin_scale4(grid, b->bins);
+                                lt_i32 step, int record, const lt_box *grid, int nbins, lt_bins *bins) {
+  lt_v4 glo = lt_box_lo4(grid), scale = lt_bin_scale4(grid, nbins);
   for (lt_i32 i = lo; i < hi; i += step) {
     if (i + LT_PREFETCH * step < hi) lt_prefetch(b->prim_boxes + 2 * (long)refs[i + LT_PREFETCH * step]);
     LT_GLOBAL const lt_v4 *box = b->prim_boxes + 2 * (long)refs[i];
-    int packed = lt_bins_add(bins, glo, scale, b->bins, box[0], box[1]);
+    int packed = lt_bins_add(bins, glo, scale, nbins, box[0], box[1]);
     if (record) b->side[i] = packed;
   }
 }
@@ -293,11 +304,12 @@ LT_DEVICE int lt_bvh_split_small(const lt_bvh_build *b, lt_i32 begin, lt_i32 end
   }
   LT_GLOBAL lt_i32 *src = lt_bvh_refs(b, depth), *dst = lt_bvh_refs(b, depth + 1);
   lt_bins bins;
-  lt_bins_clear(&bins);
+  int nbins = lt_bvh_node_bins(b, n);
+  lt_bins_clear_first(&bins, nbins);
   lt_i32 step = lt_bin_step(n);
   int sampled = step > 1;
-  lt_bvh_bin_range(b, src, begin, end, step, !sampled, bounds, &bins);
-  *s = lt_sah_best_split(&bins, b->bins, bounds, b->traversal_cost, b->intersection_cost);
+  lt_bvh_bin_range(b, src, begin, end, step, !sampled, bounds, nbins, &bins);
+  *s = lt_sah_best_split(&bins, nbins, bounds, b->traversal_cost, b->intersection_cost);
   lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)lt_bin_sample_count(n));
   if (lt_sah_make_leaf(n, depth, s, b->max_leaf, b->intersection_cost, LT_BVH_MAX_DEPTH)) return 0;
 
@@ -421,7 +433,8 @@ LT_DEVICE void lt_bvh_chunk(const lt_bvh_build *b, lt_i32 slot, lt_i32 chunk, in
     lt_i32 j0 = chunk * LT_BVH_CHUNK, j1 = j0 + LT_BVH_CHUNK < samples ? j0 + LT_BVH_CHUNK : samples;
     lt_bins bins;
     lt_bins_clear(&bins);
-    lt_bvh_bin_range(b, src, begin + (j0 + lid) * step, begin + j1 * step, lsize * step, !sampled, &bounds, &bins);
+    lt_bvh_bin_range(b, src, begin + (j0 + lid) * step, begin + j1 * step, lsize * step, !sampled, &bounds, b->bins,
+                     &bins);
     lt_bins_merge_global(slab, &bins);
     return;
   }

@@ -61,6 +61,15 @@ LT_DEVICE void lt_bins_clear(lt_bins *bins) {
   }
 }
 
+/* Clears only the first nbins bins of each axis: all that binning and pricing with nbins read. */
+LT_DEVICE void lt_bins_clear_first(lt_bins *bins, int nbins) {
+  for (int axis = 0; axis < 3; axis++)
+    for (int i = axis * LT_MAX_BINS; i < axis * LT_MAX_BINS + nbins; i++) {
+      bins->lo[i] = lt_v4_splat(INFINITY), bins->hi[i] = lt_v4_splat(-INFINITY);
+      bins->count[i] = 0;
+    }
+}
+
 /* Adds one primitive (box lo, hi) to its bin on every axis: the bins of lt_bin_of for the
  * centroid 0.5 * (lo + hi), clamped in float before the conversion (the same bin: truncation
  * and the clamp commute on [0, nbins - 1]) so that the three axes stay in one vector. An axis
