@@ -153,21 +153,21 @@ LT_BVH8_TARGET static inline void lt_bvh8_triangle(const lt_ray_setup *r, const 
   lt_intersect_triangle(r, v0, v1, v2, lt_float_as_int(t->v0.w), hit);
 }
 
-/* Traces one ray prepared with lt_ray_prepare (its flags set) through a finished 8-wide tree
- * whose leaves are triangles in leaf order; writes the hit (prim -1 on a miss) and returns 0,
- * or -1 when the stack would overflow (never on a tree of LT_BVH_MAX_DEPTH levels).
- * `vector` 0 takes the plain box test and tests every triangle one by one (the tests compare
- * both). */
-LT_BVH8_TARGET static inline int lt_bvh8_traverse_with(const lt_bvh8_node *nodes, const lt_tri4 *blocks,
-                                                       const lt_tri *tris, const lt_ray_setup *r, lt_hit_record *out,
-                                                       lt_trace_counters *c, int vector) {
-  lt_hit_record hit;
-  hit.t = r->tmax, hit.u = hit.v = 0.0f, hit.prim = -1;
+/* Traces one ray prepared with lt_ray_prepare (its flags set) through the 8-wide subtree whose
+ * root's children are the lanes of node `root`, from the best hit so far in *io (prim -1 and
+ * t = tmax when none), which it updates. Returns 0, or -1 when the stack would overflow (never
+ * on a tree of LT_BVH_MAX_DEPTH levels). `vector` 0 takes the plain box test and tests every
+ * triangle one by one (the tests compare both). The on-demand traversal enters the wide
+ * subtrees of its tree here (kernels/native_bvh_wide.c). */
+LT_BVH8_TARGET static inline int lt_bvh8_traverse_from(const lt_bvh8_node *nodes, const lt_tri4 *blocks,
+                                                       const lt_tri *tris, const lt_ray_setup *r, lt_i32 root,
+                                                       lt_hit_record *io, lt_trace_counters *c, int vector) {
+  lt_hit_record hit = *io;
   int any_hit = r->flags & LT_QUERY_FLAG_ANY, status = 0;
   lt_bvh8_ray q = lt_bvh8_ray_make(r);
   lt_bvh8_item stack[LT_BVH8_STACK_SIZE];
   int sp = 0;
-  lt_i32 first = 0, count = -1; /* node 0, the root's children */
+  lt_i32 first = root, count = -1; /* the root's children */
   while (r->valid) {
     if (count < 0) {
       /* An inner child: its children's boxes against the ray, up to the best hit so far. */
@@ -244,8 +244,17 @@ LT_BVH8_TARGET static inline int lt_bvh8_traverse_with(const lt_bvh8_node *nodes
     sp--;
     first = stack[sp].first, count = stack[sp].count;
   }
-  *out = hit;
+  *io = hit;
   return status;
+}
+
+/* Traces one ray through a whole finished 8-wide tree (node 0 holds the root's children);
+ * writes the hit (prim -1 on a miss) and returns as lt_bvh8_traverse_from. */
+LT_BVH8_TARGET static inline int lt_bvh8_traverse_with(const lt_bvh8_node *nodes, const lt_tri4 *blocks,
+                                                       const lt_tri *tris, const lt_ray_setup *r, lt_hit_record *out,
+                                                       lt_trace_counters *c, int vector) {
+  out->t = r->tmax, out->u = out->v = 0.0f, out->prim = -1;
+  return lt_bvh8_traverse_from(nodes, blocks, tris, r, 0, out, c, vector);
 }
 
 #endif

@@ -8,12 +8,39 @@
 #include "device/pool.h"
 #include "traversal/ray_box.h"
 
+/* On the native backend of an x86 CPU, finished subtrees of a tree built on demand may also
+ * exist as 8-wide trees (device/bvh_node.h, the wide kind), which the on-demand traversal
+ * hands to the AVX2 traversal of traversal/bvh8_traverse.h (kernels/native_bvh_wide.c). The
+ * host collapses them only where the CPU has AVX2. */
+#if !defined(__OPENCL_VERSION__) && defined(__x86_64__)
+#define LT_BVH_WIDE 1
+#include "device/bvh8_node.h"
+
+/* The 8-wide trees of one on-demand tree: their nodes, triangles and four-triangle blocks. */
+typedef struct lt_bvh_wide_view {
+  const lt_bvh8_node *nodes;
+  const lt_tri4 *blocks;
+  const lt_tri *tris;
+} lt_bvh_wide_view;
+
+/* Traces a ray from the children of wide node `node`, starting from and updating its best hit
+ * so far; returns 0, or -1 when the wide stack would overflow (never on a tree of
+ * LT_BVH_MAX_DEPTH levels). Hits are bit for bit the binary traversal's. */
+int lt__bvh_wide_trace(const lt_bvh_wide_view *w, const lt_ray_setup *r, lt_hit_record *hit, lt_i32 node,
+                       lt_trace_counters *c);
+#else
+#define LT_BVH_WIDE 0
+#endif
+
 typedef struct lt_bvh_view {
   LT_GLOBAL const lt_bvh_node *nodes;
   LT_GLOBAL const lt_tri *tris;   /* host-built trees: triangles in leaf order */
   LT_GLOBAL const lt_i32 *index;  /* pool-built trees: triangle numbers in leaf order, */
   LT_GLOBAL const float *verts;   /* and the scene's vertices, 9 floats a triangle */
   const lt_pool *pool;            /* on demand: where unbuilt children are requested */
+#if LT_BVH_WIDE
+  const lt_bvh_wide_view *wide;   /* on demand, native: the wide subtrees, or NULL */
+#endif
 } lt_bvh_view;
 
 /* A ray in flight: enough state to suspend on an unbuilt child and resume. Stack entries are

@@ -1,0 +1,209 @@
+/* Wide subtrees of the on-demand BVH (runtime/bvh_wide_host.c): between launches the native
+ * backend collapses finished subtrees 8 wide and the next launch's rays cross them with the
+ * AVX2 traversal. Every launch on one tree, with the collapse on and off, returns the
+ * brute-force reference's closest hits (t and prim bit for bit), any-hit agrees, closed meshes
+ * do not leak, and a wide copy made wrong on purpose shows in the hits (so the rays do go
+ * through it). */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "runtime/bvh_ondemand_host.h"
+#include "tests/hard_cases.h"
+#include "tests/support.h"
+
+static const char *const specs[] = {"house", "house-row:2", "house-grid:2x2", "hairball:300", "sphere:4", "cornell",
+                                    "teapot-stadium"};
+
+/* Whether this machine makes wide subtrees at all (native backend with AVX2). */
+static int wide_here(void) {
+  lt_context *ctx;
+  lt_context_config config = {LT_DEVICE_NATIVE, 0, 0, 0, 1};
+  if (lt_context_create(&config, &ctx) != LT_OK) return 0;
+  int wanted = lt__ondemand_wide_wanted(ctx, LT_POOL_REQUESTED);
+  lt_context_destroy(ctx);
+  return wanted;
+}
+
+/* A tree on demand in `mode` on a native context of `groups` work-groups. */
+static lt_structure *make_tree(const lt_scene *scene, lt_build_mode mode, int groups, lt_context **ctx) {
+  lt_context_config config = {LT_DEVICE_NATIVE, groups, 1, 0, 1};
+  assert_int_equal(lt_context_create(&config, ctx), LT_OK);
+  lt_structure_config sc = lt_structure_config_default(LT_STRUCTURE_BVH);
+  sc.build = mode;
+  lt_structure *bvh;
+  assert_int_equal(lt_structure_create(*ctx, scene, &sc, NULL, &bvh), LT_OK);
+  return bvh;
+}
+
+/* Traces the rays `launches` times on one tree (closest, then any hit on the last launch):
+ * every launch's closest hits equal ref, the any-hit answers agree; returns the subtrees
+ * collapsed. */
+static int launches_match(const char *what, const lt_scene *scene, lt_build_mode mode, int groups, const lt_ray *rays,
+                          size_t n, const lt_hit *ref, int launches) {
+  lt_context *ctx;
+  lt_structure *bvh = make_tree(scene, mode, groups, &ctx);
+  lt_hit *hits = malloc(n * sizeof *hits);
+  for (int l = 0; l < launches; l++) {
+    memset(hits, 0xab, n * sizeof *hits);
+    assert_int_equal(lt_structure_trace(bvh, rays, n, LT_QUERY_CLOSEST, hits, NULL), LT_OK);
+    char label[200];
+    snprintf(label, sizeof label, "%s, launch %d", what, l + 1);
+    assert_int_equal(lt_test_count_mismatches(label, hits, ref, n), 0);
+  }
+  assert_int_equal(lt_structure_trace(bvh, rays, n, LT_QUERY_ANY, hits, NULL), LT_OK);
+  assert_int_equal(lt_test_count_occlusion_mismatches(hits, ref, n), 0);
+  int made = lt__structure_ondemand(bvh)->wide_subtrees;
+  free(hits);
+  lt_structure_destroy(bvh);
+  lt_context_destroy(ctx);
+  return made;
+}
+
+/* Every generator, both on-demand modes, collapse of every finished subtree (minimum 1
+ * triangle) and of the default's large ones, and the switch off: three launches of the
+ * generator rays on one tree, each against brute force. */
+static void ondemand_wide_matches_reference_across_launches(void **state) {
+  (void)state;
+  int wide = wide_here();
+  size_t first = getenv("LT_TEST_QUICK") ? 3 : 0;
+  int default_min = lt__ondemand_wide_min;
+  for (size_t s = first; s < sizeof specs / sizeof specs[0]; s++) {
+    lt_scene *scene;
+    assert_int_equal(lt_scene_load(specs[s], &scene), LT_OK);
+    size_t n;
+    lt_ray *rays = lt_test_generator_rays(scene, 24, 512, 31 + s, &n);
+    lt_hit *ref = malloc(n * sizeof *ref);
+    assert_int_equal(lt_reference_trace(scene, rays, n, LT_QUERY_CLOSEST, ref), LT_OK);
+    for (int mode = LT_BUILD_REQUESTED; mode <= LT_BUILD_SPECULATIVE; mode++)
+      for (int variant = 0; variant < 3; variant++) {
+        /* 0: every finished subtree, 1: the default minimum, 2: the switch off. */
+        lt__ondemand_wide_min = variant == 0 ? 1 : default_min;
+        if (variant == 2) setenv("LT_BVH_WIDE", "0", 1);
+        char what[160];
+        snprintf(what, sizeof what, "%s %s %s", specs[s], lt_build_mode_name((lt_build_mode)mode),
+                 variant == 0 ? "wide from 1 triangle" : variant == 1 ? "wide" : "binary");
+        int made = launches_match(what, scene, (lt_build_mode)mode, 1 + variant % 2, rays, n, ref, 3);
+        unsetenv("LT_BVH_WIDE");
+        fprintf(stderr, "%s: %d subtrees collapsed\n", what, made);
+        if (variant == 2 || !wide) assert_int_equal(made, 0);
+        if (variant == 0 && wide) assert_true(made > 0);
+      }
+    lt__ondemand_wide_min = default_min;
+    free(rays), free(ref);
+    lt_scene_destroy(scene);
+  }
+}
+
+/* Closed meshes shot from inside (vertices, edge midpoints, random directions) twice on one
+ * tree: the second launch crosses wide subtrees and no ray may leave. */
+static void ondemand_wide_closed_meshes_never_leak(void **state) {
+  (void)state;
+  int quick = getenv("LT_TEST_QUICK") != NULL;
+  lt_hc_mesh meshes[3] = {lt_hc_sphere(quick ? 3 : 5, 3), lt_hc_torus(48, 24), lt_hc_cube(16, 5)};
+  size_t n = quick ? 1000 : 4000;
+  lt_ray *rays = malloc(n * sizeof *rays);
+  lt_hit *hits = malloc(n * sizeof *hits);
+  int default_min = lt__ondemand_wide_min;
+  lt__ondemand_wide_min = 1;
+  for (int m = 0; m < 3; m++) {
+    size_t count = lt_hc_closed_rays(&meshes[m], 17, n, rays);
+    for (int mode = LT_BUILD_REQUESTED; mode <= LT_BUILD_SPECULATIVE; mode++) {
+      lt_context *ctx;
+      lt_structure *bvh = make_tree(meshes[m].scene, (lt_build_mode)mode, 2, &ctx);
+      for (int l = 0; l < 2; l++) {
+        assert_int_equal(lt_structure_trace(bvh, rays, count, LT_QUERY_CLOSEST, hits, NULL), LT_OK);
+        assert_int_equal(lt_hc_count_misses(hits, count), 0);
+      }
+      lt_structure_destroy(bvh);
+      lt_context_destroy(ctx);
+    }
+    lt_hc_free(&meshes[m]);
+  }
+  lt__ondemand_wide_min = default_min;
+  free(rays), free(hits);
+}
+
+/* The rays really cross the wide copies: with every wide triangle's number changed after the
+ * collapse, the next launch's hits differ from the reference (and they did not before). */
+static void ondemand_wide_copies_are_what_rays_see(void **state) {
+  (void)state;
+  if (!wide_here()) skip();
+  lt_scene *scene;
+  assert_int_equal(lt_scene_load("house-grid:2x2", &scene), LT_OK);
+  size_t n;
+  lt_ray *rays = lt_test_generator_rays(scene, 24, 0, 1, &n);
+  lt_hit *ref = malloc(n * sizeof *ref), *hits = malloc(n * sizeof *hits);
+  assert_int_equal(lt_reference_trace(scene, rays, n, LT_QUERY_CLOSEST, ref), LT_OK);
+  int default_min = lt__ondemand_wide_min;
+  lt__ondemand_wide_min = 1;
+  lt_context *ctx;
+  lt_structure *bvh = make_tree(scene, LT_BUILD_REQUESTED, 2, &ctx);
+  assert_int_equal(lt_structure_trace(bvh, rays, n, LT_QUERY_CLOSEST, hits, NULL), LT_OK);
+  assert_int_equal(lt_test_count_mismatches("first launch", hits, ref, n), 0);
+
+  /* A launch with one ray collapses what the first finished; then every copy is made wrong. */
+  lt__ondemand *od = lt__structure_ondemand(bvh);
+  assert_int_equal(lt_structure_trace(bvh, rays, 1, LT_QUERY_CLOSEST, hits, NULL), LT_OK);
+  assert_true(od->wide_subtrees > 0 && od->wide.tri_slots > 0);
+  for (int i = 0; i < od->wide.tri_slots; i++) od->wide.tris[i].v0.w = lt_int_as_float(1 << 30);
+  assert_int_equal(lt_structure_trace(bvh, rays, n, LT_QUERY_CLOSEST, hits, NULL), LT_OK);
+  size_t wrong = 0;
+  for (size_t i = 0; i < n; i++) wrong += hits[i].prim == 1 << 30;
+  fprintf(stderr, "%zu of %zu hits came from the wide copies\n", wrong, n);
+  assert_true(wrong > n / 10);
+  lt__ondemand_wide_min = default_min;
+  lt_structure_destroy(bvh);
+  lt_context_destroy(ctx);
+  free(rays), free(ref), free(hits);
+  lt_scene_destroy(scene);
+}
+
+/* Statistics: the wide copies' bytes are part of memory_bytes, and the switch removes them. */
+static void ondemand_wide_memory_is_counted(void **state) {
+  (void)state;
+  if (!wide_here()) skip();
+  lt_scene *scene;
+  assert_int_equal(lt_scene_load("house-row:2", &scene), LT_OK);
+  size_t n;
+  lt_ray *rays = lt_test_generator_rays(scene, 32, 0, 1, &n);
+  lt_hit *hits = malloc(n * sizeof *hits);
+  double memory[2], wide_bytes[2];
+  int default_min = lt__ondemand_wide_min;
+  lt__ondemand_wide_min = 1;
+  for (int off = 0; off < 2; off++) {
+    if (off) setenv("LT_BVH_WIDE", "0", 1);
+    lt_context *ctx;
+    lt_structure *bvh = make_tree(scene, LT_BUILD_SPECULATIVE, 2, &ctx);
+    lt_stats *stats;
+    lt_stats_create(&stats);
+    for (int l = 0; l < 2; l++) assert_int_equal(lt_structure_trace(bvh, rays, n, LT_QUERY_CLOSEST, hits, stats), LT_OK);
+    memory[off] = lt_stats_get(stats, "memory_bytes");
+    wide_bytes[off] = lt_stats_get(stats, "wide.bytes");
+    lt_stats_destroy(stats);
+    lt_structure_destroy(bvh);
+    lt_context_destroy(ctx);
+    unsetenv("LT_BVH_WIDE");
+  }
+  fprintf(stderr, "memory %.0f bytes with wide subtrees (%.0f of them wide), %.0f without\n", memory[0],
+          wide_bytes[0], memory[1]);
+  lt__ondemand_wide_min = default_min;
+  assert_true(wide_bytes[0] > 0);
+  assert_true(memory[0] >= memory[1] + wide_bytes[0]);
+  free(rays), free(hits);
+  lt_scene_destroy(scene);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(ondemand_wide_copies_are_what_rays_see),
+      cmocka_unit_test(ondemand_wide_memory_is_counted),
+      cmocka_unit_test(ondemand_wide_closed_meshes_never_leak),
+      cmocka_unit_test(ondemand_wide_matches_reference_across_launches),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
