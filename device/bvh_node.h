@@ -9,12 +9,13 @@
  *   leaf      count > 0: `count` references from position `link`
  *   empty     link == -1, count 0 (the super-root's right child, a root that is one leaf)
  *   unbuilt   link <= -2, count 0: the pool task in slot -2 - link will build it
- *   wide      link >= 0, count < 0: an inner node whose finished subtree also exists as an
- *             8-wide tree (device/bvh8_node.h), its children in the lanes of wide node
- *             -1 - count (lt_bvh_wide_node). Native backend only, on trees built on demand:
- *             the host collapses finished subtrees between launches (runtime/bvh_wide_host.c).
- *             lt_bvh_child_kind calls it inner, so a reader that knows no wide trees follows
- *             `link` into the binary subtree, which stays as it was.
+ *   wide      link >= 0, count < 0: an inner node whose subtree, as far as it was built,
+ *             also exists as an 8-wide tree (device/bvh8_node.h), its children in the lanes of
+ *             wide node -1 - count (lt_bvh_wide_node); its unbuilt links are exit lanes that
+ *             lead back here. Native backend only, on trees built on demand: the host
+ *             collapses the built part between launches (runtime/bvh_wide_host.c) and marks
+ *             the root's link. lt_bvh_child_kind calls it inner, so a reader that knows no
+ *             wide trees follows `link` into the binary subtree, which stays as it was.
  *
  * Two leaf formats, on purpose. A tree built on the host copies its triangles into leaf order
  * (lt_tri, 48 bytes each, the triangle's number in v0.w): a leaf is one contiguous read, and

@@ -145,7 +145,7 @@ void lt__ondemand_release(lt__ondemand *od) {
 /* The kernel's arguments from its one list (kernels/bvh_ondemand.h). */
 LT__KERNEL_ARGS(od_args, LT_OD_ARGS, lt_od_args)
 
-/* The arguments and, natively, the wide subtrees, which are no kernel argument: the native
+/* The arguments and, natively, the wide tree, which are no kernel argument: the native
  * view gets them beside the list's (args first, so that od_args_set_any reads it as od_args). */
 typedef struct od_launch_args {
   od_args args;
@@ -260,7 +260,7 @@ lt_status lt__ondemand_snapshot(lt__ondemand *od, lt_bvh_node **nodes, int *node
 }
 
 double lt__ondemand_bytes(const lt__ondemand *od, double *node_bytes, double *reference_bytes, double *pool_bytes) {
-  /* The wide subtrees' nodes and their own triangles (a copy and its blocks) count too. */
+  /* The wide tree's nodes and its own triangles (a copy and its blocks) count too: room held. */
   *node_bytes = (double)od->nodes.bytes + (double)od->wide.node_capacity * sizeof(lt_bvh8_node);
   *reference_bytes = (double)od->index.bytes + (double)od->wide.slot_capacity * (sizeof(lt_tri) + sizeof(lt_tri4) / 4);
   *pool_bytes = (double)(od->pool.headers.bytes + od->pool.tasks.bytes + od->pool.empty_cache.bytes +

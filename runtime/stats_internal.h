@@ -27,7 +27,7 @@
   X(LT_STAT_SAH_COST, "sah_cost")            \
   X(LT_STAT_SKIPPED_TRIANGLES, "skipped_triangles") \
   X(LT_STAT_MORTON_NODES, "morton_nodes")    \
-  X(LT_STAT_WIDE_SUBTREES, "wide.subtrees")  \
+  X(LT_STAT_WIDE_NODES, "wide.nodes")        \
   X(LT_STAT_WIDE_BYTES, "wide.bytes")        \
   X(LT_STAT_WIDE_MS, "wide.ms")              \
   X(LT_STAT_MAP_BYTES, "map_bytes")          \

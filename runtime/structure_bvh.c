@@ -108,7 +108,7 @@ static lt_status launch(lt_structure *s, const lt_ray *rays, int count, int flag
 static int may_grow_structure(const lt_structure *s) { return may_grow(s->state); }
 
 /* The re-trace for statistics collapses nothing (runtime/bvh_wide_host.c): the next batch's
- * launch does, in its own time. */
+ * launch does, in its own time, so that no collapse is left out of a time to image. */
 static void retracing(lt_structure *s, int on) {
   bvh_state *b = s->state;
   if (b->live) b->od.wide_hold = on;
@@ -134,7 +134,7 @@ static void put_stats(lt_structure *s, lt_stats *stats) {
   lt__stats_put(stats, LT_STAT_POOL_BYTES, pool_bytes);
   if (b->od.wide_on) {
     const lt__bvh8 *w = &b->od.wide;
-    lt__stats_put(stats, LT_STAT_WIDE_SUBTREES, b->od.wide_subtrees);
+    lt__stats_put(stats, LT_STAT_WIDE_NODES, w->node_count);
     lt__stats_put(stats, LT_STAT_WIDE_BYTES,
                   (double)w->node_capacity * sizeof(lt_bvh8_node) +
                       (double)w->slot_capacity * (sizeof(lt_tri) + sizeof(lt_tri4) / 4));

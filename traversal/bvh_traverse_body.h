@@ -72,16 +72,13 @@ LT_DEVICE int LT_BVH_TRAVERSE_NAME(const lt_bvh_view *v, lt_bvh_ray *q, int flag
       q->wait = -1;
       if (kind == LT_CHILD_LEAF) LT_BVH_LEAF(v, r, &hit, link, count, c);
 #if LT_BVH_TRAVERSE_WIDE
-      /* A wide child: its whole subtree through the 8-wide traversal, from the best hit so
-       * far; then on from the stack like after a leaf. */
-      if (kind == LT_CHILD_INNER && lt_bvh_child_is_wide(count)) {
-        if (lt__bvh_wide_trace(v->wide, r, &hit, lt_bvh_wide_node(count), c) != 0) {
-          q->overflow = 1;
-          cur = -1;
-          break;
-        }
+      /* A wide child: its subtree through the 8-wide traversal, from the best hit so far, its
+       * exits onto the stack; then on from the stack like after a leaf. Exits that would not
+       * fit send the ray into the binary subtree instead (its links are all still there). */
+      if (kind == LT_CHILD_INNER && lt_bvh_child_is_wide(count) &&
+          lt__bvh_wide_trace(v->wide, r, &hit, lt_bvh_wide_node(count), q->stack, q->stack_t, &sp,
+                             LT_BVH_RAY_STACK_SIZE, c) == 0)
         kind = LT_CHILD_LEAF;
-      }
 #endif
       if (kind == LT_CHILD_INNER) {
         cur = link;
@@ -144,7 +141,7 @@ LT_DEVICE int LT_BVH_TRAVERSE_NAME(const lt_bvh_view *v, lt_bvh_ray *q, int flag
     /* The nearer child next, the farther one on the stack. */
     if (go[0] && go[1]) {
       int near_side = t_entry[0] <= t_entry[1] ? 0 : 1;
-      if (sp == LT_BVH_STACK_SIZE) {
+      if (sp == LT_BVH_RAY_STACK_SIZE) {
 #if LT_BVH_TRAVERSE_ONDEMAND
         lt_pool_fail(v->pool, LT_POOL_ERROR_STACK);
 #endif

@@ -8,15 +8,17 @@
 #include "device/pool.h"
 #include "traversal/ray_box.h"
 
-/* On the native backend of an x86 CPU, finished subtrees of a tree built on demand may also
- * exist as 8-wide trees (device/bvh_node.h, the wide kind), which the on-demand traversal
- * hands to the AVX2 traversal of traversal/bvh8_traverse.h (kernels/native_bvh_wide.c). The
- * host collapses them only where the CPU has AVX2. */
+/* On the native backend of an x86 CPU, the part of a tree built on demand that the last
+ * launches built may also exist as an 8-wide tree (device/bvh_node.h, the wide kind), which
+ * the on-demand traversal hands to the AVX2 traversal of traversal/bvh8_traverse.h
+ * (kernels/native_bvh_wide.c). The host collapses it only where the CPU has AVX2. Its exits
+ * (unbuilt links) come back to the binary traversal's stack, which is larger there. */
 #if !defined(__OPENCL_VERSION__) && defined(__x86_64__)
 #define LT_BVH_WIDE 1
+#define LT_BVH_RAY_STACK_SIZE 256
 #include "device/bvh8_node.h"
 
-/* The 8-wide trees of one on-demand tree: their nodes, triangles and four-triangle blocks. */
+/* The 8-wide tree of one on-demand tree: its nodes, triangles and four-triangle blocks. */
 typedef struct lt_bvh_wide_view {
   const lt_bvh8_node *nodes;
   const lt_tri4 *blocks;
@@ -24,12 +26,15 @@ typedef struct lt_bvh_wide_view {
 } lt_bvh_wide_view;
 
 /* Traces a ray from the children of wide node `node`, starting from and updating its best hit
- * so far; returns 0, or -1 when the wide stack would overflow (never on a tree of
- * LT_BVH_MAX_DEPTH levels). Hits are bit for bit the binary traversal's. */
+ * so far; the exits it enters go on the binary stack (stack, stack_t, *sp, at most `size`
+ * entries), nearest on top. Returns 0, or 1 when they would not fit (the stack is then as it
+ * was, and the caller traverses the binary subtree instead; the best hit found stays valid).
+ * Hits are bit for bit the binary traversal's. */
 int lt__bvh_wide_trace(const lt_bvh_wide_view *w, const lt_ray_setup *r, lt_hit_record *hit, lt_i32 node,
-                       lt_trace_counters *c);
+                       lt_i32 *stack, float *stack_t, lt_i32 *sp, lt_i32 size, lt_trace_counters *c);
 #else
 #define LT_BVH_WIDE 0
+#define LT_BVH_RAY_STACK_SIZE LT_BVH_STACK_SIZE
 #endif
 
 typedef struct lt_bvh_view {
@@ -48,8 +53,8 @@ typedef struct lt_bvh_view {
 typedef struct lt_bvh_ray {
   lt_ray_setup r;
   lt_hit_record hit;
-  lt_i32 stack[LT_BVH_STACK_SIZE];
-  float stack_t[LT_BVH_STACK_SIZE]; /* each far child's entry distance */
+  lt_i32 stack[LT_BVH_RAY_STACK_SIZE];
+  float stack_t[LT_BVH_RAY_STACK_SIZE]; /* each far child's entry distance */
   lt_i32 sp;
   lt_i32 cur;      /* next node, a link reference (<= -2), or -1 when done */
   lt_i32 wait;     /* link address the ray is suspended on, or -1 */

@@ -2,8 +2,7 @@
  * Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays", EGSR 2008, section 3, at
  * the width of an AVX2 register): siblings stored together, nodes in depth-first order. One
  * collapse serves both leaf formats of device/bvh_node.h: a host tree's (lt_tri in leaf order)
- * and a pool tree's (triangle numbers into the scene's vertices), the latter one finished
- * subtree at a time. */
+ * and a pool tree's (triangle numbers into the scene's vertices), built as far as it is. */
 #include "builders/host/bvh8_collapse.h"
 
 #include <stdlib.h>
@@ -45,17 +44,9 @@ static void write_leaf(const collapser *c, int first, int count, int at) {
   }
 }
 
-/* The lanes in use of a wide node (empty lanes have count 0). */
-static int lanes_in_use(const lt_bvh8_node *n) {
-  int lanes = 0;
-  for (int lane = 0; lane < LT_BVH8_WIDTH; lane++) lanes += n->count[lane] != 0;
-  return lanes;
-}
-
 /* Makes the node holding the children of binary inner node `link` at `depth` (node 0 is at
- * depth 1), then its inner children's nodes; returns its index and puts its children. A
- * binary child that is already wide (device/bvh_node.h) is not opened: its lane points at its
- * wide node. */
+ * depth 1), then its inner children's nodes; returns its index and puts its children. An
+ * unbuilt binary child (a tree still being built) becomes an exit lane (device/bvh8_node.h). */
 static int collapse(collapser *c, int link, int depth, int *children) {
   lt__bvh_child kids[LT_BVH8_WIDTH];
   int n = lt__bvh_open_children(&c->binary, link, LT_BVH8_WIDTH, kids);
@@ -63,10 +54,9 @@ static int collapse(collapser *c, int link, int depth, int *children) {
   int at = c->next++;
   if (c->out && depth > c->out->max_depth) c->out->max_depth = depth;
   for (int lane = 0; lane < LT_BVH8_WIDTH; lane++) {
-    /* An already wide child: its node, which the collapse that made it wrote. */
-    if (lane < n && kids[lane].count < 0) {
-      int wide = lt_bvh_wide_node(kids[lane].count);
-      if (c->out) lt_bvh8_write_child(&c->out->nodes[at], lane, &kids[lane].box, wide, -lanes_in_use(&c->out->nodes[wide]));
+    /* An unbuilt child: the binary traversal's reference to its link. */
+    if (lane < n && kids[lane].link <= -2) {
+      if (c->out) lt_bvh8_write_child(&c->out->nodes[at], lane, &kids[lane].box, -2 - kids[lane].address, -1);
       continue;
     }
     /* Empty lanes get empty boxes and count 0; a leaf's triangles go to the next slots. */
@@ -145,11 +135,12 @@ lt_status lt__bvh8_collapse(const lt__bvh *bvh, lt__bvh8 *out) {
   return status;
 }
 
-lt_status lt__bvh8_append_subtree(lt__bvh8 *out, const lt_bvh_node *nodes, int link, const lt_i32 *index,
+lt_status lt__bvh8_collapse_built(lt__bvh8 *out, const lt_bvh_node *nodes, int link, const lt_i32 *index,
                                   const float *verts, int *root) {
   if (!out || !nodes || link < 0 || !index || !verts) return LT_ERROR_INVALID_ARGUMENT;
   collapser c = {{0}, NULL, index, verts, NULL, 0, 0};
   c.binary.nodes = (lt_bvh_node *)nodes; /* read only: the collapse never writes the binary tree */
+  out->node_count = out->tri_slots = out->leaf_count = out->max_depth = 0; /* the room stays */
   return append(&c, out, link, root);
 }
 

@@ -23,12 +23,12 @@ typedef struct lt__bvh8 {
  * inner one of largest surface area while it has fewer than eight. Every box is the binary
  * tree's, bit for bit. LT_ERROR_OUT_OF_MEMORY on allocation. */
 lt_status lt__bvh8_collapse(const lt__bvh *bvh, lt__bvh8 *out);
-/* Appends the collapse of the finished subtree under inner node `link` of a tree the pool
- * built (`nodes`; leaves hold triangle numbers from `index` into `verts`, 9 floats a
- * triangle) to out, which starts zeroed and grows; *root gets the wide node holding the
- * subtree's children. Children already wide (device/bvh_node.h) are linked, not copied; the
- * subtree must hold no unbuilt link. LT_ERROR_OUT_OF_MEMORY on allocation (out unchanged). */
-lt_status lt__bvh8_append_subtree(lt__bvh8 *out, const lt_bvh_node *nodes, int link, const lt_i32 *index,
+/* Collapses the subtree under inner node `link` of a tree the pool is building (`nodes`;
+ * leaves hold triangle numbers from `index` into `verts`, 9 floats a triangle) as far as it is
+ * built, into out (zeroed the first time; what it held is replaced, its room reused): unbuilt
+ * links become exit lanes (device/bvh8_node.h). *root gets the wide node holding the
+ * subtree's children. LT_ERROR_OUT_OF_MEMORY on allocation. */
+lt_status lt__bvh8_collapse_built(lt__bvh8 *out, const lt_bvh_node *nodes, int link, const lt_i32 *index,
                                   const float *verts, int *root);
 void lt__bvh8_free(lt__bvh8 *bvh8);
 
