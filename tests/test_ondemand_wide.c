@@ -30,12 +30,16 @@ static int wide_here(void) {
   return wanted;
 }
 
+/* Trees made from now on have the Morton top (--top morton, nodes above 64 triangles). */
+static int morton_top;
+
 /* A tree on demand in `mode` on a native context of `groups` work-groups. */
 static lt_structure *make_tree(const lt_scene *scene, lt_build_mode mode, int groups, lt_context **ctx) {
   lt_context_config config = {LT_DEVICE_NATIVE, groups, 1, 0, 1};
   assert_int_equal(lt_context_create(&config, ctx), LT_OK);
   lt_structure_config sc = lt_structure_config_default(LT_STRUCTURE_BVH);
   sc.build = mode;
+  if (morton_top) sc.bvh_top = LT_BVH_TOP_MORTON, sc.bvh_morton_above = 64;
   lt_structure *bvh;
   assert_int_equal(lt_structure_create(*ctx, scene, &sc, NULL, &bvh), LT_OK);
   return bvh;
@@ -65,8 +69,9 @@ static int launches_match(const char *what, const lt_scene *scene, lt_build_mode
   return made;
 }
 
-/* Every generator, both on-demand modes, the collapse on and off, one and two work-groups:
- * three launches of the generator rays on one tree, each against brute force. */
+/* Every generator, both on-demand modes, the collapse on and off, one and two work-groups,
+ * the SAH and the Morton top: three launches of the generator rays on one tree, each against
+ * brute force. */
 static void ondemand_wide_matches_reference_across_launches(void **state) {
   (void)state;
   int wide = wide_here();
@@ -79,14 +84,16 @@ static void ondemand_wide_matches_reference_across_launches(void **state) {
     lt_hit *ref = malloc(n * sizeof *ref);
     assert_int_equal(lt_reference_trace(scene, rays, n, LT_QUERY_CLOSEST, ref), LT_OK);
     for (int mode = LT_BUILD_REQUESTED; mode <= LT_BUILD_SPECULATIVE; mode++)
-      for (int variant = 0; variant < 3; variant++) {
-        /* 0, 1: wide on one and two work-groups; 2: the switch off. */
+      for (int variant = 0; variant < 4; variant++) {
+        /* 0, 1: wide on one and two work-groups; 2: the switch off; 3: wide, Morton top. */
         if (variant == 2) setenv("LT_BVH_WIDE", "0", 1);
+        morton_top = variant == 3;
         char what[160];
-        snprintf(what, sizeof what, "%s %s %s, %d work-groups", specs[s], lt_build_mode_name((lt_build_mode)mode),
-                 variant < 2 ? "wide" : "binary", 1 + variant % 2);
+        snprintf(what, sizeof what, "%s %s %s%s, %d work-groups", specs[s], lt_build_mode_name((lt_build_mode)mode),
+                 variant == 2 ? "binary" : "wide", morton_top ? ", Morton top" : "", 1 + variant % 2);
         int made = launches_match(what, scene, (lt_build_mode)mode, 1 + variant % 2, rays, n, ref, 3);
         unsetenv("LT_BVH_WIDE");
+        morton_top = 0;
         fprintf(stderr, "%s: %d collapses\n", what, made);
         if (variant == 2 || !wide) assert_int_equal(made, 0);
         else assert_true(made > 0);
