@@ -16,6 +16,7 @@
 #include "runtime/bvh_ondemand_host.h"
 #include "tests/hard_cases.h"
 #include "tests/support.h"
+#include "traversal/bvh_view.h"
 
 static const char *const specs[] = {"house", "house-row:2", "house-grid:2x2", "hairball:300", "sphere:4", "cornell",
                                     "teapot-stadium"};
@@ -101,6 +102,35 @@ static void ondemand_wide_matches_reference_across_launches(void **state) {
     free(rays), free(ref);
     lt_scene_destroy(scene);
   }
+}
+
+/* Rays whose exits do not fit go down the binary subtree instead, keeping the hits the wide
+ * traversal found: with room for 0 and for 2 exits, every launch still matches brute force. */
+static void ondemand_wide_exits_that_do_not_fit_fall_back(void **state) {
+  (void)state;
+#if !LT_BVH_WIDE
+  skip();
+#else
+  if (!wide_here()) skip();
+  const char *const scenes[] = {"house-grid:2x2", "hairball:300"};
+  for (int s = 0; s < 2; s++) {
+    lt_scene *scene;
+    assert_int_equal(lt_scene_load(scenes[s], &scene), LT_OK);
+    size_t n;
+    lt_ray *rays = lt_test_generator_rays(scene, 24, 512, 3, &n);
+    lt_hit *ref = malloc(n * sizeof *ref);
+    assert_int_equal(lt_reference_trace(scene, rays, n, LT_QUERY_CLOSEST, ref), LT_OK);
+    for (int limit = 0; limit <= 2; limit += 2) {
+      lt__bvh_wide_exit_limit = limit;
+      char what[120];
+      snprintf(what, sizeof what, "%s, room for %d exits", scenes[s], limit);
+      assert_true(launches_match(what, scene, LT_BUILD_SPECULATIVE, 2, rays, n, ref, 2) > 0);
+    }
+    lt__bvh_wide_exit_limit = LT_BVH_RAY_STACK_SIZE;
+    free(rays), free(ref);
+    lt_scene_destroy(scene);
+  }
+#endif
 }
 
 /* Closed meshes shot from inside (vertices, edge midpoints, random directions) twice on one
@@ -200,6 +230,7 @@ int main(void) {
       cmocka_unit_test(ondemand_wide_memory_is_counted),
       cmocka_unit_test(ondemand_wide_closed_meshes_never_leak),
       cmocka_unit_test(ondemand_wide_matches_reference_across_launches),
+      cmocka_unit_test(ondemand_wide_exits_that_do_not_fit_fall_back),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

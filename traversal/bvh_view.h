@@ -32,6 +32,8 @@ typedef struct lt_bvh_wide_view {
  * Hits are bit for bit the binary traversal's. */
 int lt__bvh_wide_trace(const lt_bvh_wide_view *w, const lt_ray_setup *r, lt_hit_record *hit, lt_i32 node,
                        lt_i32 *stack, float *stack_t, lt_i32 *sp, lt_i32 size, lt_trace_counters *c);
+/* At most this many exits a wide traversal (default LT_BVH_RAY_STACK_SIZE; tests lower it). */
+extern int lt__bvh_wide_exit_limit;
 #else
 #define LT_BVH_WIDE 0
 #define LT_BVH_RAY_STACK_SIZE LT_BVH_STACK_SIZE
