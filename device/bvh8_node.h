@@ -6,7 +6,11 @@
  * A node is the group of up to eight siblings: their boxes in SoA form (one 32-byte row per
  * plane, lane i is child i) and each child's link, told by its count as in the QBVH:
  *
- *   inner   count < 0: its own children are the first -count lanes of node `first`
+ *   inner   count < 0, first >= 0: its own children are the first -count lanes of node `first`
+ *   exit    count < 0, first < 0: an unbuilt child of a tree still being built, whose link is
+ *           at address -2 - first of the binary tree (device/bvh_node.h): the 8-wide
+ *           traversal hands it back to the binary one (first is then that traversal's stack
+ *           entry for the link)
  *   leaf    count > 0: `count` triangles (lt_tri) from position `first`, a multiple of 4
  *   empty   count == 0: an unused lane
  *

@@ -9,6 +9,13 @@
  *   leaf      count > 0: `count` references from position `link`
  *   empty     link == -1, count 0 (the super-root's right child, a root that is one leaf)
  *   unbuilt   link <= -2, count 0: the pool task in slot -2 - link will build it
+ *   wide      link >= 0, count < 0: an inner node whose subtree, as far as it was built,
+ *             also exists as an 8-wide tree (device/bvh8_node.h), its children in the lanes of
+ *             wide node -1 - count (lt_bvh_wide_node); its unbuilt links are exit lanes that
+ *             lead back here. Native backend only, on trees built on demand: the host
+ *             collapses the built part between launches (runtime/bvh_wide_host.c) and marks
+ *             the root's link. lt_bvh_child_kind calls it inner, so a reader that knows no
+ *             wide trees follows `link` into the binary subtree, which stays as it was.
  *
  * Two leaf formats, on purpose. A tree built on the host copies its triangles into leaf order
  * (lt_tri, 48 bytes each, the triangle's number in v0.w): a leaf is one contiguous read, and
@@ -49,6 +56,7 @@ _Static_assert(_Alignof(lt_bvh_node) == 16, "lt_bvh_node is 16-byte aligned on b
 #define LT_CHILD_INNER 1
 #define LT_CHILD_LEAF 2
 #define LT_CHILD_UNBUILT 3
+#define LT_CHILD_WIDE 4 /* only where a traversal asks lt_bvh_child_is_wide */
 
 #define LT_BVH_LINK_EMPTY (-1)
 
@@ -56,7 +64,14 @@ _Static_assert(_Alignof(lt_bvh_node) == 16, "lt_bvh_node is 16-byte aligned on b
 LT_DEVICE lt_i32 lt_bvh_unbuilt_link(lt_i32 slot) { return -2 - slot; }
 LT_DEVICE lt_i32 lt_bvh_unbuilt_slot(lt_i32 link) { return -2 - link; }
 
-/* The kind of a child from its link and count. */
+/* The count of a wide child whose 8-wide tree starts at wide node `wide`, and back. */
+LT_DEVICE lt_i32 lt_bvh_wide_count(lt_i32 wide) { return -1 - wide; }
+LT_DEVICE lt_i32 lt_bvh_wide_node(lt_i32 count) { return -1 - count; }
+
+/* Whether an inner child (by lt_bvh_child_kind) is also a wide one. */
+LT_DEVICE int lt_bvh_child_is_wide(lt_i32 count) { return count < 0; }
+
+/* The kind of a child from its link and count (a wide child is an inner one here). */
 LT_DEVICE int lt_bvh_child_kind(lt_i32 link, lt_i32 count) {
   if (link <= -2) return LT_CHILD_UNBUILT;
   if (count > 0) return LT_CHILD_LEAF;

@@ -25,6 +25,9 @@ typedef struct lt_od_args {
   lt_i32 speculate; /* whether work-groups out of rays build what nobody asked for */
   lt_i32 prim_count;
   lt_float4 root_lo, root_hi; /* the scene's bounds, for the set-up launch */
+#if LT_BVH_WIDE
+  const lt_bvh_wide_view *wide; /* native only, not a kernel argument: the wide subtrees */
+#endif
 } lt_od_args;
 
 /* The kernel's arguments, in order (device/kernel_args.h). */
@@ -44,6 +47,9 @@ LT_DEVICE lt_bvh_view lt_od_view(const lt_od_args *a) {
   lt_bvh_view v;
   v.nodes = a->build.nodes, v.tris = 0, v.index = a->build.index, v.verts = a->build.verts;
   v.pool = &a->build.pool;
+#if LT_BVH_WIDE
+  v.wide = a->wide;
+#endif
   return v;
 }
 

@@ -76,6 +76,7 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
   od->slab_count = lt__ondemand_slab_count > 0 ? lt__ondemand_slab_count : 0;
   od->sah = *sah;
   od->morton_above = morton_above > 0 && morton_above < od->count ? morton_above : od->count;
+  od->wide_on = lt__ondemand_wide_wanted(ctx, mode);
   if (sah->bins > LT_MAX_BINS) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "at most %d SAH bins", LT_MAX_BINS);
   /* Device buffers: the scene's triangles as they are (no copy on native), their boxes,
    * references, partition room, nodes, bin slabs, counters. */
@@ -136,6 +137,7 @@ void lt__ondemand_release(lt__ondemand *od) {
                            &od->chunk_left, &od->nodes, &od->slabs, &od->slab_used, &od->counters,
                            &od->codes,      &od->block_boxes};
   for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++) lt__buffer_release(buffers[i]);
+  lt__bvh8_free(&od->wide);
   for (int slot = 0; slot < 8; slot++)
     if (od->kept[slot]) lt__context_give(od->ctx, slot, od->kept[slot], od->kept_bytes[slot]), od->kept[slot] = NULL;
 }
@@ -143,11 +145,27 @@ void lt__ondemand_release(lt__ondemand *od) {
 /* The kernel's arguments from its one list (kernels/bvh_ondemand.h). */
 LT__KERNEL_ARGS(od_args, LT_OD_ARGS, lt_od_args)
 
+/* The arguments and, natively, the wide tree, which are no kernel argument: the native
+ * view gets them beside the list's (args first, so that od_args_set_any reads it as od_args). */
+typedef struct od_launch_args {
+  od_args args;
+  const void *wide; /* an lt_bvh_wide_view, or NULL */
+} od_launch_args;
+
+static void od_view_any(const void *launch_args, void *view) {
+  const od_launch_args *l = launch_args;
+  od_args_view(&l->args, view);
+#if LT_BVH_WIDE
+  ((lt_od_args *)view)->wide = l->wide;
+#endif
+}
+
 /* One launch on either backend: the set-up launch (work-group 0 makes the root) or the persistent loop
  * over `count` rays (exactly as many work-groups as run at once: they wait on each other). */
 static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, int count, int flags, int speculate,
                         int setup) {
   lt_context *ctx = od->ctx;
+  od_launch_args launch_args = {.wide = NULL};
   od_args args;
   LT__POOL_HOST_ARGS(&args, &od->pool);
   LT__HEAP_HOST_ARGS(&args, node_heap, &od->node_heap);
@@ -163,10 +181,15 @@ static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, in
   args.max_idle_polls = od->pool.config.max_idle_polls, args.speculate = speculate, args.prim_count = od->count;
   args.root_lo = (lt_float4){od->bounds.lo[0], od->bounds.lo[1], od->bounds.lo[2], 0.0f};
   args.root_hi = (lt_float4){od->bounds.hi[0], od->bounds.hi[1], od->bounds.hi[2], 0.0f};
+  launch_args.args = args;
+#if LT_BVH_WIDE
+  lt_bvh_wide_view wide = {od->wide.nodes, od->wide.blocks, od->wide.tris};
+  if (od->wide.node_count > 0) launch_args.wide = &wide;
+#endif
   static const lt__persistent_kernel kernel = {"lt_bvh_ondemand", lt__native_bvh_ondemand_kernel, od_args_set_any,
-                                               od_args_view_any};
+                                               od_view_any};
   lt_od_args view;
-  return lt__persistent_launch(ctx, &kernel, &args, &view, setup, &od->pool.control,
+  return lt__persistent_launch(ctx, &kernel, &launch_args, &view, setup, &od->pool.control,
                                        od->pool.config.max_stall_seconds);
 }
 
@@ -198,7 +221,12 @@ lt_status lt__ondemand_launch(lt__ondemand *od, const lt_ray *rays, int count, i
                               int speculate, lt_stats *stats) {
   lt_context *ctx = od->ctx;
   lt__buffer ray_buf, hit_buf;
-  lt_status status = lt__batch_buffers_begin(ctx, &ray_buf, &hit_buf, rays, count, hits);
+  /* Before rays are traced again, what the last launches finished becomes wide (counted in
+   * this launch's time); a re-trace of the same rays for statistics holds it back, so that its
+   * collapse is not hidden from the next launch's time. */
+  lt_status status = count > 0 && !od->wide_hold ? lt__ondemand_widen(od) : LT_OK;
+  if (status) return status;
+  status = lt__batch_buffers_begin(ctx, &ray_buf, &hit_buf, rays, count, hits);
   if (status) return status;
   status = lt__pool_begin_launch(&od->pool);
   if (!status) status = launch(od, &ray_buf, &hit_buf, count, flags, speculate, 0);
@@ -232,8 +260,9 @@ lt_status lt__ondemand_snapshot(lt__ondemand *od, lt_bvh_node **nodes, int *node
 }
 
 double lt__ondemand_bytes(const lt__ondemand *od, double *node_bytes, double *reference_bytes, double *pool_bytes) {
-  *node_bytes = (double)od->nodes.bytes;
-  *reference_bytes = (double)od->index.bytes;
+  /* The wide tree's nodes and its own triangles (a copy and its blocks) count too: room held. */
+  *node_bytes = (double)od->nodes.bytes + (double)od->wide.node_capacity * sizeof(lt_bvh8_node);
+  *reference_bytes = (double)od->index.bytes + (double)od->wide.slot_capacity * (sizeof(lt_tri) + sizeof(lt_tri4) / 4);
   *pool_bytes = (double)(od->pool.headers.bytes + od->pool.tasks.bytes + od->pool.empty_cache.bytes +
                          od->pool.priority_cache.bytes + od->pool.control.bytes + od->slabs.bytes);
   return *node_bytes + *reference_bytes + *pool_bytes + od->prim_boxes.bytes + od->side.bytes +

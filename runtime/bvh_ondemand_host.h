@@ -3,6 +3,7 @@
 #ifndef LT_ONDEMAND_INTERNAL_H
 #define LT_ONDEMAND_INTERNAL_H
 
+#include "builders/host/bvh8_collapse.h"
 #include "builders/host/bvh_sah.h"
 #include "runtime/heap_host.h"
 #include "runtime/pool_host.h"
@@ -23,7 +24,21 @@ typedef struct lt__ondemand {
   size_t kept_bytes[8];
   double leaves;      /* leaves built over all launches */
   double sort_ops;
+  /* Native: the built part collapsed 8 wide before each launch (runtime/bvh_wide_host.c). */
+  int wide_on;        /* collapse before each launch with rays */
+  int wide_hold;      /* not before the next launch (a re-trace for statistics) */
+  lt__bvh8 wide;      /* the wide nodes and their triangle copies */
+  int wide_collapses; /* collapses so far */
+  double wide_ms;     /* host time spent collapsing (part of the launches' time) */
 } lt__ondemand;
+
+/* Whether trees on ctx in this pool mode collapse their built part 8 wide: native backend,
+ * on demand, a CPU with AVX2, and not LT_BVH_WIDE=0 in the environment (the switch that
+ * measures binary against wide traversal). */
+int lt__ondemand_wide_wanted(const lt_context *ctx, int pool_mode);
+/* Collapses the tree as far as it is built into the wide tree, and marks the root's link
+ * wide (only while no launch is running). */
+lt_status lt__ondemand_widen(lt__ondemand *od);
 
 /* Bin slabs of trees created from now on (default 64; see ondemand.c). */
 extern int lt__ondemand_slab_count;

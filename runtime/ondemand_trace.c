@@ -17,9 +17,11 @@ lt_status lt__ondemand_trace(lt_structure *s, const lt__ondemand_ops *ops, const
   if (status || !stats) return status;
   lt_stats *again;
   if ((status = lt_stats_create(&again))) return status;
+  if (ops->retracing) ops->retracing(s, 1);
   double retrace_start = lt_now_ms();
   status = ops->launch(s, rays, count, flags, hits, 0, again);
   double retrace = lt_now_ms() - retrace_start;
+  if (ops->retracing) ops->retracing(s, 0);
   lt_stats_destroy(again);
   lt__stats_add(stats, LT_STAT_TRACE_MS, retrace);
   lt__stats_add(stats, LT_STAT_BUILD_MS, total > retrace ? total - retrace : 0.0);

@@ -16,6 +16,9 @@ typedef struct lt__ondemand_ops {
   int (*may_grow)(const lt_structure *s);
   /* Starts the structure again with more room after `status` (LT_ERROR_CAPACITY). */
   lt_status (*retry)(lt_structure *s, lt_stats *stats, lt_status status);
+  /* Optional: told before (1) and after (0) the re-trace for statistics, which must not
+   * change the structure in a way the next batch's time would then miss. */
+  void (*retracing)(lt_structure *s, int on);
 } lt__ondemand_ops;
 
 /* Traces a batch on demand (requested or speculative build), as said above. */

@@ -27,6 +27,9 @@
   X(LT_STAT_SAH_COST, "sah_cost")            \
   X(LT_STAT_SKIPPED_TRIANGLES, "skipped_triangles") \
   X(LT_STAT_MORTON_NODES, "morton_nodes")    \
+  X(LT_STAT_WIDE_NODES, "wide.nodes")        \
+  X(LT_STAT_WIDE_BYTES, "wide.bytes")        \
+  X(LT_STAT_WIDE_MS, "wide.ms")              \
   X(LT_STAT_MAP_BYTES, "map_bytes")          \
   X(LT_STAT_CELLS_TOP, "cells.top")          \
   X(LT_STAT_CELLS_TOP_BUILT, "cells.top_built") \

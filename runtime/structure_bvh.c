@@ -107,9 +107,16 @@ static lt_status launch(lt_structure *s, const lt_ray *rays, int count, int flag
 
 static int may_grow_structure(const lt_structure *s) { return may_grow(s->state); }
 
+/* The re-trace for statistics collapses nothing (runtime/bvh_wide_host.c): the next batch's
+ * launch does, in its own time, so that no collapse is left out of a time to image. */
+static void retracing(lt_structure *s, int on) {
+  bvh_state *b = s->state;
+  if (b->live) b->od.wide_hold = on;
+}
+
 /* A full build's tree is traced by the plain kernel; on demand, lt__ondemand_trace. */
 static lt_status trace(lt_structure *s, const lt_ray *rays, int count, int flags, lt_hit *hits, lt_stats *stats) {
-  static const lt__ondemand_ops ops = {launch, may_grow_structure, with_retry};
+  static const lt__ondemand_ops ops = {launch, may_grow_structure, with_retry, retracing};
   if (mode_of(s) == LT_BUILD_FULL) return trace_finished(s, rays, count, flags, hits, stats);
   return lt__ondemand_trace(s, &ops, rays, count, flags, hits, stats);
 }
@@ -125,6 +132,14 @@ static void put_stats(lt_structure *s, lt_stats *stats) {
   lt__stats_put(stats, LT_STAT_NODE_BYTES, node_bytes);
   lt__stats_put(stats, LT_STAT_REFERENCE_BYTES, ref_bytes);
   lt__stats_put(stats, LT_STAT_POOL_BYTES, pool_bytes);
+  if (b->od.wide_on) {
+    const lt__bvh8 *w = &b->od.wide;
+    lt__stats_put(stats, LT_STAT_WIDE_NODES, w->node_count);
+    lt__stats_put(stats, LT_STAT_WIDE_BYTES,
+                  (double)w->node_capacity * sizeof(lt_bvh8_node) +
+                      (double)w->slot_capacity * (sizeof(lt_tri) + sizeof(lt_tri4) / 4));
+    lt__stats_put(stats, LT_STAT_WIDE_MS, b->od.wide_ms);
+  }
 }
 
 static void release(lt_structure *s) {

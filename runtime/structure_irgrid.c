@@ -100,7 +100,7 @@ static int may_grow_structure(const lt_structure *s) { return may_grow(s->state)
 
 /* A full build's grid is traced by the plain kernel; on demand, lt__ondemand_trace. */
 static lt_status trace(lt_structure *s, const lt_ray *rays, int count, int flags, lt_hit *hits, lt_stats *stats) {
-  static const lt__ondemand_ops ops = {launch, may_grow_structure, with_retry};
+  static const lt__ondemand_ops ops = {launch, may_grow_structure, with_retry, NULL};
   irgrid_state *g = s->state;
   if (mode_of(s) == LT_BUILD_FULL) return lt__irgrid_trace_finished(&g->grid, rays, count, flags, hits, stats);
   return lt__ondemand_trace(s, &ops, rays, count, flags, hits, stats);

@@ -124,7 +124,7 @@ static int may_grow_structure(const lt_structure *s) { return may_grow(s->state)
 
 /* A full build's tree is traced by the plain kernel; on demand, lt__ondemand_trace. */
 static lt_status trace(lt_structure *s, const lt_ray *rays, int count, int flags, lt_hit *hits, lt_stats *stats) {
-  static const lt__ondemand_ops ops = {launch, may_grow_structure, with_retry};
+  static const lt__ondemand_ops ops = {launch, may_grow_structure, with_retry, NULL};
   if (mode_of(s) == LT_BUILD_FULL) return trace_finished(s, rays, count, flags, hits, stats);
   return lt__ondemand_trace(s, &ops, rays, count, flags, hits, stats);
 }

@@ -137,7 +137,7 @@ static int check_tree(const lt__bvh *bvh, const float *scene_tris, size_t n, int
 
 /* Through the one traversal body on the host, as the native backend runs it. */
 static void trace(const lt__bvh *bvh, const lt_ray *rays, size_t n, int any_hit, lt_hit *hits) {
-  lt_bvh_view tree = {bvh->nodes, bvh->tris, NULL, NULL, NULL};
+  lt_bvh_view tree = {.nodes = bvh->nodes, .tris = bvh->tris};
   for (size_t i = 0; i < n; i++) {
     lt_bvh_ray q;
     lt_trace_counters counters = {0, 0};

@@ -241,22 +241,31 @@ LT_BVH8_TARGET static inline int lt_bvh8_leaf(const lt_ray_setup *r, const lt_bv
   return 0;
 }
 
-/* Traces one ray prepared with lt_ray_prepare (its flags set) through a finished 8-wide tree
- * whose leaves are triangles in leaf order; writes the hit (prim -1 on a miss) and returns 0,
- * or -1 when the stack would overflow (never on a tree of LT_BVH_MAX_DEPTH levels).
- * `vector` 0 takes the plain box test and tests every triangle one by one (the tests compare
- * both). */
-LT_BVH8_TARGET static inline int lt_bvh8_traverse_with(const lt_bvh8_node *nodes, const lt_tri4 *blocks,
-                                                       const lt_tri *tris, const lt_ray_setup *r, lt_hit_record *out,
-                                                       lt_trace_counters *c, int vector) {
-  lt_hit_record hit;
-  hit.t = r->tmax, hit.u = hit.v = 0.0f, hit.prim = -1;
+/* One bit per lane that is an exit (device/bvh8_node.h: count < 0 and first < 0). */
+LT_BVH8_TARGET static inline int lt_bvh8_exit_lanes(const lt_bvh8_node *n) {
+  __m256 first = _mm256_loadu_ps((const float *)n->first), count = _mm256_loadu_ps((const float *)n->count);
+  return _mm256_movemask_ps(_mm256_and_ps(first, count)) & 0xff;
+}
+
+/* Traces one ray prepared with lt_ray_prepare (its flags set) through the 8-wide subtree whose
+ * root's children are the lanes of node `root`, from the best hit so far in *io (prim -1 and
+ * t = tmax when none), which it updates. Returns 0, or -1 when the stack would overflow (never
+ * on a tree of LT_BVH_MAX_DEPTH levels). `vector` 0 takes the plain box test and tests every
+ * triangle one by one (the tests compare both). The on-demand traversal enters the wide
+ * tree of its tree's built part here (kernels/native_bvh_wide.c): exit lanes the ray enters
+ * go to exits[] (at most max_exits, *exit_count of them; 1 is returned when more would), with
+ * their entry distances, for the binary traversal; exits NULL: the tree has none. */
+LT_BVH8_TARGET static inline int lt_bvh8_traverse_from(const lt_bvh8_node *nodes, const lt_tri4 *blocks,
+                                                       const lt_tri *tris, const lt_ray_setup *r, lt_i32 root,
+                                                       lt_hit_record *io, lt_trace_counters *c, int vector,
+                                                       lt_bvh8_item *exits, int max_exits, int *exit_count) {
+  lt_hit_record hit = *io;
   int any_hit = r->flags & LT_QUERY_FLAG_ANY, status = 0;
   lt_bvh8_ray q = lt_bvh8_ray_make(r);
   lt_bvh8_item stack[LT_BVH8_STACK_SIZE];
   int sp = 0;
-  lt_u32 steps = 0, tests = 0;  /* counted here, added once: c may alias the stack for the compiler */
-  lt_i32 first = 0, count = -1; /* node 0, the root's children */
+  lt_u32 steps = 0, tests = 0;     /* counted here, added once: c may alias the stack for the compiler */
+  lt_i32 first = root, count = -1; /* the root's children */
   while (r->valid) {
     if (count < 0) {
       /* An inner child: its children's boxes against the ray, up to the best hit so far. */
@@ -265,6 +274,21 @@ LT_BVH8_TARGET static inline int lt_bvh8_traverse_with(const lt_bvh8_node *nodes
       float t[8];
       int mask =
           vector ? lt_bvh8_box8(r, &q, n, hit.t, t) : lt_bvh8_box8_scalar(r, n, hit.t, t) & lt_bvh8_child_lanes(n);
+      /* Exits entered are the binary traversal's to take (trees still being built only). */
+      int out = exits ? mask & lt_bvh8_exit_lanes(n) : 0;
+      if (out) {
+        if (*exit_count + __builtin_popcount((unsigned)out) > max_exits) {
+          status = 1;
+          break;
+        }
+        mask &= ~out;
+        do {
+          int lane = __builtin_ctz((unsigned)out);
+          out &= out - 1;
+          lt_bvh8_item item = {n->first[lane], n->count[lane], t[lane]};
+          exits[(*exit_count)++] = item;
+        } while (out);
+      }
       if (mask) {
         int lane = __builtin_ctz((unsigned)mask);
         mask &= mask - 1;
@@ -332,8 +356,17 @@ LT_BVH8_TARGET static inline int lt_bvh8_traverse_with(const lt_bvh8_node *nodes
     first = stack[sp].first, count = stack[sp].count;
   }
   c->traversal_steps += steps, c->intersections += tests;
-  *out = hit;
+  *io = hit;
   return status;
+}
+
+/* Traces one ray through a whole finished 8-wide tree (node 0 holds the root's children);
+ * writes the hit (prim -1 on a miss) and returns as lt_bvh8_traverse_from. */
+LT_BVH8_TARGET static inline int lt_bvh8_traverse_with(const lt_bvh8_node *nodes, const lt_tri4 *blocks,
+                                                       const lt_tri *tris, const lt_ray_setup *r, lt_hit_record *out,
+                                                       lt_trace_counters *c, int vector) {
+  out->t = r->tmax, out->u = out->v = 0.0f, out->prim = -1;
+  return lt_bvh8_traverse_from(nodes, blocks, tris, r, 0, out, c, vector, NULL, 0, NULL);
 }
 
 #endif

@@ -17,6 +17,10 @@
 #define LT_BVH_CAT(a, b) LT_BVH_CAT2(a, b)
 #define LT_BVH_LEAF LT_BVH_CAT(LT_BVH_TRAVERSE_NAME, _leaf)
 
+/* Wide children (device/bvh_node.h) are taken as such by the on-demand traversal on the native
+ * backend of x86 (the only place the host makes them); everywhere else they are inner nodes. */
+#define LT_BVH_TRAVERSE_WIDE (LT_BVH_TRAVERSE_ONDEMAND && LT_BVH_WIDE)
+
 /* Intersects the `count` references of a leaf from position `first`. */
 LT_DEVICE_OUTLINE void LT_BVH_LEAF(const lt_bvh_view *v, const lt_ray_setup *r, lt_hit_record *hit, lt_i32 first, lt_i32 count,
                            lt_trace_counters *c) {
@@ -67,6 +71,15 @@ LT_DEVICE int LT_BVH_TRAVERSE_NAME(const lt_bvh_view *v, lt_bvh_ray *q, int flag
       }
       q->wait = -1;
       if (kind == LT_CHILD_LEAF) LT_BVH_LEAF(v, r, &hit, link, count, c);
+#if LT_BVH_TRAVERSE_WIDE
+      /* A wide child: its subtree through the 8-wide traversal, from the best hit so far, its
+       * exits onto the stack; then on from the stack like after a leaf. Exits that would not
+       * fit send the ray into the binary subtree instead (its links are all still there). */
+      if (kind == LT_CHILD_INNER && lt_bvh_child_is_wide(count) &&
+          lt__bvh_wide_trace(v->wide, r, &hit, lt_bvh_wide_node(count), q->stack, q->stack_t, &sp,
+                             LT_BVH_RAY_STACK_SIZE, c) == 0)
+        kind = LT_CHILD_LEAF;
+#endif
       if (kind == LT_CHILD_INNER) {
         cur = link;
       } else {
@@ -114,6 +127,11 @@ LT_DEVICE int LT_BVH_TRAVERSE_NAME(const lt_bvh_view *v, lt_bvh_ray *q, int flag
         go[side] = 0;
       } else if (kind[side] == LT_CHILD_UNBUILT) {
         next[side] = -2 - (cur * 2 + side);
+#if LT_BVH_TRAVERSE_WIDE
+      } else if (lt_bvh_child_is_wide(count[side])) {
+        /* A wide child is taken in its turn, nearer first, through its link (above). */
+        next[side] = -2 - (cur * 2 + side);
+#endif
       } else {
         next[side] = link[side];
       }
@@ -123,7 +141,7 @@ LT_DEVICE int LT_BVH_TRAVERSE_NAME(const lt_bvh_view *v, lt_bvh_ray *q, int flag
     /* The nearer child next, the farther one on the stack. */
     if (go[0] && go[1]) {
       int near_side = t_entry[0] <= t_entry[1] ? 0 : 1;
-      if (sp == LT_BVH_STACK_SIZE) {
+      if (sp == LT_BVH_RAY_STACK_SIZE) {
 #if LT_BVH_TRAVERSE_ONDEMAND
         lt_pool_fail(v->pool, LT_POOL_ERROR_STACK);
 #endif
@@ -160,6 +178,7 @@ LT_DEVICE int LT_BVH_TRAVERSE_NAME(const lt_bvh_view *v, lt_bvh_ray *q, int flag
 }
 
 #undef LT_BVH_LEAF
+#undef LT_BVH_TRAVERSE_WIDE
 #undef LT_BVH_CAT
 #undef LT_BVH_CAT2
 #undef LT_BVH_TRAVERSE_NAME

@@ -8,12 +8,46 @@
 #include "device/pool.h"
 #include "traversal/ray_box.h"
 
+/* On the native backend of an x86 CPU, the part of a tree built on demand that the last
+ * launches built may also exist as an 8-wide tree (device/bvh_node.h, the wide kind), which
+ * the on-demand traversal hands to the AVX2 traversal of traversal/bvh8_traverse.h
+ * (kernels/native_bvh_wide.c). The host collapses it only where the CPU has AVX2. Its exits
+ * (unbuilt links) come back to the binary traversal's stack, which is larger there. */
+#if !defined(__OPENCL_VERSION__) && defined(__x86_64__)
+#define LT_BVH_WIDE 1
+#define LT_BVH_RAY_STACK_SIZE 256
+#include "device/bvh8_node.h"
+
+/* The 8-wide tree of one on-demand tree: its nodes, triangles and four-triangle blocks. */
+typedef struct lt_bvh_wide_view {
+  const lt_bvh8_node *nodes;
+  const lt_tri4 *blocks;
+  const lt_tri *tris;
+} lt_bvh_wide_view;
+
+/* Traces a ray from the children of wide node `node`, starting from and updating its best hit
+ * so far; the exits it enters go on the binary stack (stack, stack_t, *sp, at most `size`
+ * entries), nearest on top. Returns 0, or 1 when they would not fit (the stack is then as it
+ * was, and the caller traverses the binary subtree instead; the best hit found stays valid).
+ * Hits are bit for bit the binary traversal's. */
+int lt__bvh_wide_trace(const lt_bvh_wide_view *w, const lt_ray_setup *r, lt_hit_record *hit, lt_i32 node,
+                       lt_i32 *stack, float *stack_t, lt_i32 *sp, lt_i32 size, lt_trace_counters *c);
+/* At most this many exits a wide traversal (default LT_BVH_RAY_STACK_SIZE; tests lower it). */
+extern int lt__bvh_wide_exit_limit;
+#else
+#define LT_BVH_WIDE 0
+#define LT_BVH_RAY_STACK_SIZE LT_BVH_STACK_SIZE
+#endif
+
 typedef struct lt_bvh_view {
   LT_GLOBAL const lt_bvh_node *nodes;
   LT_GLOBAL const lt_tri *tris;   /* host-built trees: triangles in leaf order */
   LT_GLOBAL const lt_i32 *index;  /* pool-built trees: triangle numbers in leaf order, */
   LT_GLOBAL const float *verts;   /* and the scene's vertices, 9 floats a triangle */
   const lt_pool *pool;            /* on demand: where unbuilt children are requested */
+#if LT_BVH_WIDE
+  const lt_bvh_wide_view *wide;   /* on demand, native: the wide subtrees, or NULL */
+#endif
 } lt_bvh_view;
 
 /* A ray in flight: enough state to suspend on an unbuilt child and resume. Stack entries are
@@ -21,8 +55,8 @@ typedef struct lt_bvh_view {
 typedef struct lt_bvh_ray {
   lt_ray_setup r;
   lt_hit_record hit;
-  lt_i32 stack[LT_BVH_STACK_SIZE];
-  float stack_t[LT_BVH_STACK_SIZE]; /* each far child's entry distance */
+  lt_i32 stack[LT_BVH_RAY_STACK_SIZE];
+  float stack_t[LT_BVH_RAY_STACK_SIZE]; /* each far child's entry distance */
   lt_i32 sp;
   lt_i32 cur;      /* next node, a link reference (<= -2), or -1 when done */
   lt_i32 wait;     /* link address the ray is suspended on, or -1 */

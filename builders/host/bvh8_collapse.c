@@ -1,6 +1,8 @@
 /* Collapse of a binary BVH into an 8-ary one (Dammertz, Hanika and Keller, "Shallow Bounding
  * Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays", EGSR 2008, section 3, at
- * the width of an AVX2 register): siblings stored together, nodes in depth-first order. */
+ * the width of an AVX2 register): siblings stored together, nodes in depth-first order. One
+ * collapse serves both leaf formats of device/bvh_node.h: a host tree's (lt_tri in leaf order)
+ * and a pool tree's (triangle numbers into the scene's vertices), built as far as it is. */
 #include "builders/host/bvh8_collapse.h"
 
 #include <stdlib.h>
@@ -9,18 +11,31 @@
 #include "builders/host/qbvh_collapse.h"
 
 typedef struct collapser {
-  const lt__bvh *bvh;
-  lt__bvh8 *out; /* NULL while counting */
-  int next;      /* nodes handed out */
-  int slots;     /* triangle slots handed out */
+  lt__bvh binary;        /* only its nodes are read */
+  const lt_tri *tris;    /* leaves of a host tree, or NULL and */
+  const lt_i32 *index;   /* a pool tree's leaves: triangle numbers */
+  const float *verts;    /* into the scene's vertices, 9 floats a triangle */
+  lt__bvh8 *out;         /* NULL while counting */
+  int next;              /* nodes handed out */
+  int slots;             /* triangle slots handed out */
 } collapser;
 
-/* Copies a leaf's `count` triangles from position `first` of the binary tree's to slot `at`
- * (a multiple of four) of the tree's own, pads to the next multiple of four with copies of its
- * first triangle, and writes the blocks. */
-static void write_leaf(const lt__bvh *bvh, int first, int count, lt__bvh8 *out, int at) {
+/* Triangle i of a leaf from position `first`, in either format. */
+static lt_tri leaf_triangle(const collapser *c, int first, int i) {
+  if (c->tris) return c->tris[first + i];
+  lt_i32 prim = c->index[first + i];
+  const float *v = c->verts + 9 * (size_t)prim;
+  lt_tri t = {{v[0], v[1], v[2], lt_int_as_float(prim)}, {v[3], v[4], v[5], 0.0f}, {v[6], v[7], v[8], 0.0f}};
+  return t;
+}
+
+/* Copies a leaf's `count` triangles from position `first` to slot `at` (a multiple of four) of
+ * the tree's own, pads to the next multiple of four with copies of its first triangle, and
+ * writes the blocks. */
+static void write_leaf(const collapser *c, int first, int count, int at) {
+  lt__bvh8 *out = c->out;
   for (int i = 0; i < (count + 3) / 4 * 4; i++) {
-    lt_tri t = bvh->tris[first + (i < count ? i : 0)];
+    lt_tri t = leaf_triangle(c, first, i < count ? i : 0);
     out->tris[at + i] = t;
     lt_tri4 *b = &out->blocks[(at + i) / 4];
     const lt_float4 *v[3] = {&t.v0, &t.v1, &t.v2};
@@ -30,14 +45,20 @@ static void write_leaf(const lt__bvh *bvh, int first, int count, lt__bvh8 *out, 
 }
 
 /* Makes the node holding the children of binary inner node `link` at `depth` (node 0 is at
- * depth 1), then its inner children's nodes; returns its index and puts its children. */
+ * depth 1), then its inner children's nodes; returns its index and puts its children. An
+ * unbuilt binary child (a tree still being built) becomes an exit lane (device/bvh8_node.h). */
 static int collapse(collapser *c, int link, int depth, int *children) {
   lt__bvh_child kids[LT_BVH8_WIDTH];
-  int n = lt__bvh_open_children(c->bvh, link, LT_BVH8_WIDTH, kids);
+  int n = lt__bvh_open_children(&c->binary, link, LT_BVH8_WIDTH, kids);
   *children = n;
   int at = c->next++;
   if (c->out && depth > c->out->max_depth) c->out->max_depth = depth;
   for (int lane = 0; lane < LT_BVH8_WIDTH; lane++) {
+    /* An unbuilt child: the binary traversal's reference to its link. */
+    if (lane < n && kids[lane].link <= -2) {
+      if (c->out) lt_bvh8_write_child(&c->out->nodes[at], lane, &kids[lane].box, -2 - kids[lane].address, -1);
+      continue;
+    }
     /* Empty lanes get empty boxes and count 0; a leaf's triangles go to the next slots. */
     if (lane >= n || !lt__bvh_child_is_inner(&kids[lane])) {
       int slot = c->slots;
@@ -48,7 +69,7 @@ static int collapse(collapser *c, int link, int depth, int *children) {
         lt_bvh8_write_child(&c->out->nodes[at], lane, &empty, -1, 0);
         continue;
       }
-      write_leaf(c->bvh, kids[lane].link, kids[lane].count, c->out, slot);
+      write_leaf(c, kids[lane].link, kids[lane].count, slot);
       lt_bvh8_write_child(&c->out->nodes[at], lane, &kids[lane].box, slot, kids[lane].count);
       c->out->leaf_count++;
       continue;
@@ -61,26 +82,66 @@ static int collapse(collapser *c, int link, int depth, int *children) {
   return at;
 }
 
+/* Room for `nodes` more nodes and `slots` more triangle slots, keeping what is there. A node
+ * is 256 bytes: aligned to cache lines, one visit reads four whole lines. */
+static lt_status reserve(lt__bvh8 *w, int nodes, int slots) {
+  size_t need_nodes = (size_t)w->node_count + (size_t)nodes, need_slots = (size_t)w->tri_slots + (size_t)slots;
+  if (need_nodes > (size_t)w->node_capacity) {
+    size_t cap = need_nodes > 2 * (size_t)w->node_capacity ? need_nodes : 2 * (size_t)w->node_capacity;
+    lt_bvh8_node *grown = aligned_alloc(64, cap * sizeof *grown);
+    if (!grown) return LT_ERROR_OUT_OF_MEMORY;
+    if (w->node_count) memcpy(grown, w->nodes, (size_t)w->node_count * sizeof *grown);
+    free(w->nodes);
+    w->nodes = grown, w->node_capacity = (int)cap;
+  }
+  if (need_slots > (size_t)w->slot_capacity) {
+    size_t cap = need_slots > 2 * (size_t)w->slot_capacity ? need_slots : 2 * (size_t)w->slot_capacity;
+    cap = cap < 4 ? 4 : cap;
+    lt_tri *tris = aligned_alloc(64, (cap * sizeof *tris + 63) / 64 * 64);
+    lt_tri4 *blocks = aligned_alloc(64, (cap / 4 * sizeof *blocks + 63) / 64 * 64);
+    if (!tris || !blocks) return free(tris), free(blocks), LT_ERROR_OUT_OF_MEMORY;
+    if (w->tri_slots) {
+      memcpy(tris, w->tris, (size_t)w->tri_slots * sizeof *tris);
+      memcpy(blocks, w->blocks, (size_t)w->tri_slots / 4 * sizeof *blocks);
+    }
+    free(w->tris), free(w->blocks);
+    w->tris = tris, w->blocks = blocks, w->slot_capacity = (int)cap;
+  }
+  return LT_OK;
+}
+
+/* Counts, makes room, then collapses for real, appending to out; *root gets the new root. */
+static lt_status append(collapser *c, lt__bvh8 *out, int link, int *root) {
+  int children;
+  c->out = NULL, c->next = out->node_count, c->slots = out->tri_slots;
+  collapse(c, link, 1, &children);
+  lt_status status = reserve(out, c->next - out->node_count, c->slots - out->tri_slots);
+  if (status) return status;
+  memset(out->nodes + out->node_count, 0, (size_t)(c->next - out->node_count) * sizeof *out->nodes);
+  c->out = out, c->next = out->node_count, c->slots = out->tri_slots;
+  *root = collapse(c, link, 1, &children);
+  out->node_count = c->next;
+  out->tri_slots = c->slots;
+  return LT_OK;
+}
+
 lt_status lt__bvh8_collapse(const lt__bvh *bvh, lt__bvh8 *out) {
   memset(out, 0, sizeof *out);
   if (!bvh || !bvh->nodes || bvh->node_count < 1) return LT_ERROR_INVALID_ARGUMENT;
-  collapser counting = {bvh, NULL, 0, 0};
-  int children;
-  collapse(&counting, 0, 1, &children);
+  collapser c = {*bvh, bvh->tris, NULL, NULL, NULL, 0, 0};
+  int root;
+  lt_status status = append(&c, out, 0, &root);
+  if (status) lt__bvh8_free(out);
+  return status;
+}
 
-  /* A node is 256 bytes: aligned to cache lines, one visit reads four whole lines. */
-  size_t bytes = (size_t)counting.next * sizeof(lt_bvh8_node);
-  size_t slots = (size_t)counting.slots > 0 ? (size_t)counting.slots : 4;
-  out->nodes = aligned_alloc(64, bytes);
-  out->tris = aligned_alloc(64, (slots * sizeof(lt_tri) + 63) / 64 * 64);
-  out->blocks = aligned_alloc(64, (slots / 4 * sizeof(lt_tri4) + 63) / 64 * 64);
-  if (!out->nodes || !out->tris || !out->blocks) return lt__bvh8_free(out), LT_ERROR_OUT_OF_MEMORY;
-  memset(out->nodes, 0, bytes);
-  collapser c = {bvh, out, 0, 0};
-  collapse(&c, 0, 1, &children);
-  out->node_count = c.next;
-  out->tri_slots = c.slots;
-  return LT_OK;
+lt_status lt__bvh8_collapse_built(lt__bvh8 *out, const lt_bvh_node *nodes, int link, const lt_i32 *index,
+                                  const float *verts, int *root) {
+  if (!out || !nodes || link < 0 || !index || !verts) return LT_ERROR_INVALID_ARGUMENT;
+  collapser c = {{0}, NULL, index, verts, NULL, 0, 0};
+  c.binary.nodes = (lt_bvh_node *)nodes; /* read only: the collapse never writes the binary tree */
+  out->node_count = out->tri_slots = out->leaf_count = out->max_depth = 0; /* the room stays */
+  return append(&c, out, link, root);
 }
 
 void lt__bvh8_free(lt__bvh8 *bvh8) {

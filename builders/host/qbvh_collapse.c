@@ -12,10 +12,11 @@ typedef struct collapser {
   int next;      /* nodes handed out */
 } collapser;
 
-static lt__bvh_child binary_child(const lt_bvh_node *n, int side) {
+static lt__bvh_child binary_child(const lt__bvh *bvh, int node, int side) {
   lt__bvh_child c;
+  const lt_bvh_node *n = &bvh->nodes[node];
   lt_bvh_child_box(n, side, c.box.lo, c.box.hi);
-  c.link = n->link[side], c.count = n->link[2 + side];
+  c.link = n->link[side], c.count = n->link[2 + side], c.address = node * 2 + side;
   return c;
 }
 
@@ -24,8 +25,8 @@ int lt__bvh_child_is_inner(const lt__bvh_child *c) { return c->count == 0 && c->
 int lt__bvh_open_children(const lt__bvh *bvh, int link, int width, lt__bvh_child *kids) {
   int n = 0;
   for (int side = 0; side < 2; side++) {
-    lt__bvh_child c = binary_child(&bvh->nodes[link], side);
-    if (c.count > 0 || c.link >= 0) kids[n++] = c;
+    lt__bvh_child c = binary_child(bvh, link, side);
+    if (c.count > 0 || c.link != LT_BVH_LINK_EMPTY) kids[n++] = c;
   }
   while (n < width) {
     /* The inner child of largest area is the likeliest to be entered: open it. */
@@ -34,9 +35,9 @@ int lt__bvh_open_children(const lt__bvh *bvh, int link, int width, lt__bvh_child
     for (int i = 0; i < n; i++)
       if (lt__bvh_child_is_inner(&kids[i]) && lt_box_area(&kids[i].box) > best) best = lt_box_area(&kids[i].box), open = i;
     if (open < 0) break;
-    const lt_bvh_node *node = &bvh->nodes[kids[open].link];
-    kids[open] = binary_child(node, 0);
-    kids[n++] = binary_child(node, 1);
+    int node = kids[open].link;
+    kids[open] = binary_child(bvh, node, 0);
+    kids[n++] = binary_child(bvh, node, 1);
   }
   return n;
 }

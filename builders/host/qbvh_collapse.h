@@ -16,16 +16,19 @@ typedef struct lt__qbvh {
 } lt__qbvh;
 
 /* A child of a binary inner node as the collapses see it: its box and its link (count > 0 a
- * leaf of count triangles from link, count 0 and link >= 0 an inner node, else empty). */
+ * leaf of count triangles from link, count 0 and link >= 0 an inner node, link <= -2 unbuilt
+ * in a tree still being built, else empty), and where that link is (node * 2 + side). */
 typedef struct lt__bvh_child {
   lt_box box;
   int link, count;
+  int address;
 } lt__bvh_child;
 
 int lt__bvh_child_is_inner(const lt__bvh_child *c);
 /* The children of binary inner node `link`, opened while there are fewer than `width`: each
  * time the inner child of largest surface area gives way to its two children. Returns how
- * many there are (2 to width, fewer when all are leaves or empty links are dropped). Shared
+ * many there are (2 to width, fewer when all are leaves or empty links are dropped; unbuilt
+ * ones are kept, never opened). Shared
  * by the 4-wide collapse and the 8-wide one (builders/host/bvh8_collapse.c). */
 int lt__bvh_open_children(const lt__bvh *bvh, int link, int width, lt__bvh_child *kids);
 

@@ -1,0 +1,36 @@
+/* The on-demand traversal's way into the wide tree of its built part (traversal/bvh_view.h):
+ * the 8-wide AVX2 traversal of traversal/bvh8_traverse.h from the ray's best hit so far, its
+ * exits handed to the binary stack. Kept out of line: the persistent kernel is baseline
+ * x86-64, this function AVX2, and only CPUs with AVX2 have wide trees (the host checks
+ * lt_bvh8_supported before it makes one). */
+#include "kernels/native_kernels.h"
+
+#if defined(__x86_64__)
+#include "traversal/bvh8_traverse.h"
+#include "traversal/bvh_view.h"
+
+/* The most exits one wide traversal may hand over (besides the room on the stack): tests lower
+ * it to send rays down the fallback, the binary subtree. */
+int lt__bvh_wide_exit_limit = LT_BVH_RAY_STACK_SIZE;
+
+LT_BVH8_TARGET __attribute__((noinline)) int lt__bvh_wide_trace(const lt_bvh_wide_view *w, const lt_ray_setup *r,
+                                                                lt_hit_record *hit, lt_i32 node, lt_i32 *stack,
+                                                                float *stack_t, lt_i32 *sp, lt_i32 size,
+                                                                lt_trace_counters *c) {
+  lt_bvh8_item exits[LT_BVH_RAY_STACK_SIZE];
+  int count = 0;
+  int room = size - *sp < lt__bvh_wide_exit_limit ? size - *sp : lt__bvh_wide_exit_limit;
+  if (lt_bvh8_traverse_from(w->nodes, w->blocks, w->tris, r, node, hit, c, 1, exits, room, &count) != 0)
+    return 1;
+
+  /* Far to near, so that the nearest exit is popped first (insertion sort: exits are few). */
+  for (int i = 1; i < count; i++) {
+    lt_bvh8_item item = exits[i];
+    int j = i;
+    while (j > 0 && exits[j - 1].t < item.t) exits[j] = exits[j - 1], j--;
+    exits[j] = item;
+  }
+  for (int i = 0; i < count; i++) stack[*sp] = exits[i].first, stack_t[*sp] = exits[i].t, (*sp)++;
+  return 0;
+}
+#endif
