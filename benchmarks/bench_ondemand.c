@@ -182,16 +182,7 @@ static int table(int argc, char **argv, int runs, int size, int ao, FILE *csv) {
       else print_row(label, n, f, runs);
       csv_row(csv, argv[i], camera, "primary", f, runs);
 
-      lt_structure *full;
-      lt_structure_config fc = lt_structure_config_default(LT_STRUCTURE_BVH);
-      fc.build = LT_BUILD_FULL;
-      float lo[3], hi[3];
-      lt_scene_bounds(scene, lo, hi);
-      float diag = sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
-      lt_structure_create(lt_bench_native_context(), scene, &fc, NULL, &full);
-      lt_structure_trace(full, primary, n, LT_QUERY_CLOSEST, hits, NULL);
-      lt_structure_destroy(full);
-      batches[1].count = lt_ao_rays(scene, primary, hits, n, ao, 0.05f * diag, 1, ao_rays);
+      batches[1].count = lt_bench_table1_ao_rays(scene, primary, n, ao, ao_rays);
       if (run_all(scene, batches, 2, runs, f)) return 1;
       snprintf(label, sizeof label, "%s, primary + %d AO", spec, ao);
       if (methods_run == KD_METHODS) print_kd_row(label, n + batches[1].count, f, runs);

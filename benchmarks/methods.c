@@ -1,6 +1,7 @@
 /* The methods the benchmarks compare (methods.h). */
 #include "benchmarks/methods.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,6 +15,23 @@ lt_context *lt_bench_native_context(void) {
   lt_context_config config = {LT_DEVICE_NATIVE, 0, 0, 0, 1};
   if (!ctx && lt_context_create(&config, &ctx) != LT_OK) return NULL;
   return ctx;
+}
+
+size_t lt_bench_table1_ao_rays(const lt_scene *scene, const lt_ray *primary, size_t n, int ao, lt_ray *ao_rays) {
+  lt_hit *hits = malloc(n * sizeof *hits);
+  if (!hits) return 0;
+  lt_structure *full;
+  lt_structure_config fc = lt_structure_config_default(LT_STRUCTURE_BVH);
+  fc.build = LT_BUILD_FULL;
+  float lo[3], hi[3];
+  lt_scene_bounds(scene, lo, hi);
+  float diag = sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  lt_structure_create(lt_bench_native_context(), scene, &fc, NULL, &full);
+  lt_structure_trace(full, primary, n, LT_QUERY_CLOSEST, hits, NULL);
+  lt_structure_destroy(full);
+  size_t count = lt_ao_rays(scene, primary, hits, n, ao, 0.05f * diag, 1, ao_rays);
+  free(hits);
+  return count;
 }
 
 lt_context *lt_bench_context(void) {

@@ -46,6 +46,11 @@ lt_status lt_bench_build_and_trace(const lt_scene *scene, int method, const lt_b
  * NULL (with lt_last_error() saying why) if it cannot be. */
 lt_context *lt_bench_native_context(void);
 
+/* Table 1's ambient-occlusion rays: `ao` rays from every hit of the primary rays (found with a
+ * full SAH BVH on the native context), up to 5% of the scene's diagonal; returns how many it
+ * wrote to ao_rays (room for n * ao). */
+size_t lt_bench_table1_ao_rays(const lt_scene *scene, const lt_ray *primary, size_t n, int ao, lt_ray *ao_rays);
+
 /* The context the lazytrace methods run on: the native one, or the first OpenCL device where the
  * environment says LT_BENCH_DEVICE=opencl (Embree keeps the native context's thread count); NULL,
  * said on stderr or by lt_last_error(), if it cannot be made. */
