@@ -149,6 +149,20 @@ static void aim_at_triangles(const lt_scene *scene, lt_ray *rays, size_t n) {
   }
 }
 
+/* Frame f of `frames` of the scene: `side` x `side` camera rays, then `random` rays (half of
+ * them aimed at triangles), and the brute-force closest and any hits of them all. */
+static void frame_rays(lt_scene *scene, int f, int frames, int side, int random, uint64_t seed, lt_ray *rays,
+                       lt_hit *ref, lt_hit *ref_any) {
+  size_t n = (size_t)side * side + random;
+  lt_scene_set_time(scene, lt_frame_time(f, frames));
+  lt_camera camera = lt_scene_camera(scene);
+  lt_camera_primary_rays(&camera, side, side, rays);
+  lt_test_random_rays(scene, seed, random, rays + side * side);
+  aim_at_triangles(scene, rays + side * side, random / 2);
+  assert_int_equal(lt_reference_trace(scene, rays, n, LT_QUERY_CLOSEST, ref), LT_OK);
+  assert_int_equal(lt_reference_trace(scene, rays, n, LT_QUERY_ANY, ref_any), LT_OK);
+}
+
 /* Frames 0, 2 and 4 of 5 of the scene: camera and random rays over the moved triangles,
  * through every structure and build mode on every backend, rebuilt for each frame. */
 static void check_frames(lt_scene *scene, const char *name) {
@@ -160,13 +174,7 @@ static void check_frames(lt_scene *scene, const char *name) {
   lt_hit *ref = malloc(n * sizeof *ref), *ref_any = malloc(n * sizeof *ref_any);
   assert_true(rays && ref && ref_any);
   for (int f = 0; f < 5; f += 2) {
-    lt_scene_set_time(scene, lt_frame_time(f, 5));
-    lt_camera camera = lt_scene_camera(scene);
-    lt_camera_primary_rays(&camera, SIDE, SIDE, rays);
-    lt_test_random_rays(scene, 17 + (uint64_t)f, RANDOM, rays + SIDE * SIDE);
-    aim_at_triangles(scene, rays + SIDE * SIDE, RANDOM / 2);
-    assert_int_equal(lt_reference_trace(scene, rays, n, LT_QUERY_CLOSEST, ref), LT_OK);
-    assert_int_equal(lt_reference_trace(scene, rays, n, LT_QUERY_ANY, ref_any), LT_OK);
+    frame_rays(scene, f, 5, SIDE, RANDOM, 17 + (uint64_t)f, rays, ref, ref_any);
     size_t hits = 0;
     for (size_t i = 0; i < n; i++) hits += ref[i].prim >= 0;
     if (hits < n / 5) fail_msg("%s frame %d: only %zu of %zu rays hit", name, f, hits, n);
@@ -215,13 +223,7 @@ static void animation_town_frames_match_brute_force(void **state) {
   lt_hit *ref = malloc(n * sizeof *ref), *ref_any = malloc(n * sizeof *ref_any);
   assert_true(rays && ref && ref_any);
   for (int f = 0; f < 5; f += 4) {
-    lt_scene_set_time(scene, lt_frame_time(f, 5));
-    lt_camera camera = lt_scene_camera(scene);
-    lt_camera_primary_rays(&camera, SIDE, SIDE, rays);
-    lt_test_random_rays(scene, 29 + (uint64_t)f, RANDOM, rays + SIDE * SIDE);
-    aim_at_triangles(scene, rays + SIDE * SIDE, RANDOM / 2);
-    assert_int_equal(lt_reference_trace(scene, rays, n, LT_QUERY_CLOSEST, ref), LT_OK);
-    assert_int_equal(lt_reference_trace(scene, rays, n, LT_QUERY_ANY, ref_any), LT_OK);
+    frame_rays(scene, f, 5, SIDE, RANDOM, 29 + (uint64_t)f, rays, ref, ref_any);
     for (int v = 0; v < 5; v++) {
       lt_structure_config sc = lt_structure_config_default(v < 4 ? LT_STRUCTURE_BVH : LT_STRUCTURE_LBVH);
       if (v < 4) sc.build = v % 2 ? LT_BUILD_SPECULATIVE : LT_BUILD_REQUESTED;
