@@ -170,7 +170,6 @@ static int table(int argc, char **argv, int runs, int size, int ao, FILE *csv) {
       /* Primary rays, then AO rays from their hits (the same for every method). */
       size_t n = (size_t)size * size;
       lt_ray *primary = malloc(n * sizeof *primary), *ao_rays = malloc(n * ao * sizeof *ao_rays);
-      lt_hit *hits = malloc(n * sizeof *hits);
       lt_camera cam = lt_scene_camera(scene);
       lt_camera_primary_rays(&cam, size, size, primary);
       lt_bench_batch batches[2] = {{primary, n, 0}, {ao_rays, 0, 1}};
@@ -188,7 +187,7 @@ static int table(int argc, char **argv, int runs, int size, int ao, FILE *csv) {
       if (methods_run == KD_METHODS) print_kd_row(label, n + batches[1].count, f, runs);
       else print_row(label, n + batches[1].count, f, runs);
       csv_row(csv, argv[i], camera, "primary+ao", f, runs);
-      free(primary), free(ao_rays), free(hits);
+      free(primary), free(ao_rays);
       lt_scene_destroy(scene);
     }
   return 0;

@@ -131,7 +131,6 @@ int main(int argc, char **argv) {
       /* Primary rays, then AO rays from their hits (the same for every method), as Table 1. */
       size_t n = (size_t)size * size;
       lt_ray *primary = malloc(n * sizeof *primary), *ao_rays = malloc(n * ao * sizeof *ao_rays);
-      lt_hit *hits = malloc(n * sizeof *hits);
       lt_camera cam = lt_scene_camera(scene);
       lt_camera_primary_rays(&cam, size, size, primary);
       lt_bench_batch batches[2] = {{primary, n, 0}, {ao_rays, 0, 1}};
@@ -146,7 +145,7 @@ int main(int argc, char **argv) {
       snprintf(label, sizeof label, "%s, primary + %d AO", spec, ao);
       print_row(label, n + batches[1].count, f, runs);
       fflush(stdout);
-      free(primary), free(ao_rays), free(hits);
+      free(primary), free(ao_rays);
       lt_scene_destroy(scene);
     }
   return 0;
