@@ -127,7 +127,7 @@ LT_DEVICE void lt_bvh_publish_link(LT_GLOBAL lt_bvh_node *nodes, lt_i32 address,
  * on-demand kernel's samples.) */
 LT_DEVICE int lt_bvh_read_child_acquire(LT_GLOBAL const lt_bvh_node *n, int side, lt_i32 *link, lt_i32 *count) {
   *link = lt_atomic_load_acquire_i32(&n->link[side]);
-  *count = lt_atomic_load_i32(&n->link[2 + side]);
+  *count = lt_atomic_load_relaxed_i32(&n->link[2 + side]);
   return lt_bvh_child_kind(*link, *count);
 }
 

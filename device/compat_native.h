@@ -131,5 +131,7 @@ static inline lt_i32 lt__atomic_max_i32(lt_i32 *p, lt_i32 v) {
 /* A load that later reads cannot overtake (a consumer's side of a publication): on x86 a plain
  * load, where lt_atomic_load_i32 followed by lt_fence costs a full fence per read. */
 #define lt_atomic_load_acquire_i32(p) __atomic_load_n((lt_i32 *)(p), __ATOMIC_ACQUIRE)
+/* A load that orders nothing: for a value an acquire load before it already publishes. */
+#define lt_atomic_load_relaxed_i32(p) __atomic_load_n((lt_i32 *)(p), __ATOMIC_RELAXED)
 
 #endif

@@ -113,12 +113,24 @@ LT__FENCED(int, xchg_i32, (volatile LT_GLOBAL int *p, int v), atomic_xchg(p, v))
 #define lt_atomic_min_i32(p, v) atomic_min((volatile LT_GLOBAL int *)(p), (v))
 #define lt_atomic_max_i32(p, v) atomic_max((volatile LT_GLOBAL int *)(p), (v))
 #endif
-/* A load that later reads cannot overtake (a consumer's side of a publication). */
+/* A load that later reads cannot overtake (a consumer's side of a publication). On NVIDIA,
+ * LT_PTX_ACQUIRE (an experiment, through LT_OPENCL_OPTIONS) makes it PTX's acquire load instead
+ * of a load and a device-wide fence. */
+#if defined(LT_FENCE_PTX) && defined(LT_PTX_ACQUIRE)
+inline int lt__load_acquire_i32(volatile LT_GLOBAL const int *p) {
+  int v;
+  __asm__ __volatile__("ld.acquire.gpu.global.b32 %0, [%1];" : "=r"(v) : "l"(p) : "memory");
+  return v;
+}
+#else
 inline int lt__load_acquire_i32(volatile LT_GLOBAL const int *p) {
   int v = *p;
   lt_fence();
   return v;
 }
+#endif
+/* A load that orders nothing: for a value an acquire load before it already publishes. */
+#define lt_atomic_load_relaxed_i32(p) (*(volatile LT_GLOBAL const int *)(p))
 #define lt_atomic_load_acquire_i32(p) lt__load_acquire_i32((volatile LT_GLOBAL const int *)(p))
 
 #endif
