@@ -55,19 +55,27 @@ lt_status lt__opencl_open(lt_context *ctx, int index) {
 
   /* Persistent kernels launch only as many work-groups as run at once (DESIGN.md): on a CPU
    * device (PoCL) that is one per compute unit, and a work-group beyond them would wait for
-   * one that never starts. A GPU runs several per compute unit, as many as occupancy allows,
-   * which is not known here: more than 16 per unit is refused there. */
+   * one that never starts. A GPU runs several per compute unit, as many as the kernel's
+   * registers allow, which OpenCL does not say. What always fits is 256 work-items a unit: an
+   * NVIDIA SM holds 65536 registers and a thread at most 255 (an AMD CU, 4 SIMDs of at least
+   * one 64-wide wave at the most registers). On an H100 (docs/results/nvidia_h100.md) 4 groups
+   * of 64 or 2 of 128 a unit ran, and 4 of 128 hung: the persistent kernel uses that many
+   * registers. More is refused (counting a group in whole 64-wide waves). */
   cl_device_type type = CL_DEVICE_TYPE_GPU;
   clGetDeviceInfo(ctx->device, CL_DEVICE_TYPE, sizeof type, &type, NULL);
-  int most = (type & CL_DEVICE_TYPE_CPU) ? (int)units : 16 * (int)units;
-  if (ctx->work_groups > most)
-    return lt__fail(LT_ERROR_INVALID_ARGUMENT,
-                    "--work-groups %d: %s runs at most %d work-groups at once, and the persistent kernels need "
-                    "every one of theirs running (it would hang)", ctx->work_groups, ctx->name, most);
-  if (ctx->work_groups <= 0) ctx->work_groups = (int)units;
+  int cpu = (type & CL_DEVICE_TYPE_CPU) != 0;
   /* On a CPU a work-group's work-items run as a loop, and the persistent kernels measured
    * fastest with one work-item (docs/results/pool_scheduler.md); GPUs want wide groups. */
-  if (ctx->local_size <= 0) ctx->local_size = (type & CL_DEVICE_TYPE_CPU) ? 1 : 64;
+  if (ctx->local_size <= 0) ctx->local_size = cpu ? 1 : 64;
+  int wide = (ctx->local_size + 63) / 64 * 64; /* whole 64-wide waves (two NVIDIA warps) */
+  int per_unit = cpu || wide >= 256 ? 1 : 256 / wide;
+  int most = per_unit * (int)units;
+  if (ctx->work_groups > most)
+    return lt__fail(LT_ERROR_INVALID_ARGUMENT,
+                    "--work-groups %d: %s runs at most %d work-groups of %d at once, and the persistent kernels "
+                    "need every one of theirs running (it would hang)",
+                    ctx->work_groups, ctx->name, most, ctx->local_size);
+  if (ctx->work_groups <= 0) ctx->work_groups = (int)units;
 
   cl_int err;
   ctx->cl = clCreateContext(NULL, 1, &ctx->device, NULL, NULL, &err);
