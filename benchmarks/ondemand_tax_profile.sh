@@ -4,7 +4,7 @@
 # Runs bench_ondemand_tax once under callgrind with a dump after every trace call and prints
 # the measured run's counts (the warm-up pair is left out). Native backend only, one work-group
 # (WORK_GROUPS=N for more): valgrind runs one thread at a time, so a second work-group out of rays
-# polls the pool for as long as the first one runs, and its polls land in the counts (3 to 24
+# polls the pool for as long as the first one runs, and its polls land in the counts (3 to 26
 # times the plain kernel's instructions per ray in four runs of sphere:6 with two).
 #   benchmarks/ondemand_tax_profile.sh [SCENE] [SIZE] [bvh|kdtree] [BUILD_DIR]
 #                                      (defaults: sphere:6 256 bvh build)
