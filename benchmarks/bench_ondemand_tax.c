@@ -8,7 +8,8 @@
  * of the paired ratios.
  *
  *   bench_ondemand_tax SCENE[@camera] [--structure bvh|kdtree] [--size N] [--runs R]
- *                      [--device native|opencl|both]       (defaults: bvh, 1024, 5, both)
+ *                      [--device native|opencl|both] [--groups G]
+ *                      (defaults: bvh, 1024, 5, both, as many work-groups as run at once)
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -40,19 +41,20 @@ static lt_status trace_persistent(lt_structure *s, int kd, const lt_ray *rays, s
 
 int main(int argc, char **argv) {
   const char *spec = NULL, *device = "both";
-  int size = 1024, runs = 5, kd = 0;
+  int size = 1024, runs = 5, kd = 0, groups = 0;
   for (int i = 1; i < argc; i++) {
     if (strcmp(argv[i], "--size") == 0 && i + 1 < argc) size = atoi(argv[++i]);
     else if (strcmp(argv[i], "--runs") == 0 && i + 1 < argc) runs = atoi(argv[++i]);
     else if (strcmp(argv[i], "--structure") == 0 && i + 1 < argc) kd = strcmp(argv[++i], "kdtree") == 0;
     else if (strcmp(argv[i], "--device") == 0 && i + 1 < argc) device = argv[++i];
+    else if (strcmp(argv[i], "--groups") == 0 && i + 1 < argc) groups = atoi(argv[++i]);
     else if (argv[i][0] != '-') spec = argv[i];
     else spec = NULL, i = argc;
   }
-  if (!spec || runs < 1 || runs > MAX_RUNS || size < 1)
+  if (!spec || runs < 1 || runs > MAX_RUNS || size < 1 || groups < 0)
     return fprintf(stderr,
                    "usage: bench_ondemand_tax SCENE[@camera] [--structure bvh|kdtree] [--size N] [--runs R (1-%d)] "
-                   "[--device native|opencl|both]\n",
+                   "[--device native|opencl|both] [--groups G]\n",
                    MAX_RUNS),
            2;
 
@@ -75,7 +77,7 @@ int main(int argc, char **argv) {
   int mismatches = 0;
   for (int b = 0; b < 2; b++) {
     if (strcmp(device, "both") != 0 && strcmp(device, b ? "opencl" : "native") != 0) continue;
-    lt_context_config config = {b ? LT_DEVICE_OPENCL : LT_DEVICE_NATIVE, 0, 0, 0, 1};
+    lt_context_config config = {b ? LT_DEVICE_OPENCL : LT_DEVICE_NATIVE, 0, groups, 0, 1};
     lt_context *ctx;
     if (lt_context_create(&config, &ctx) != LT_OK) {
       fprintf(stderr, "%s: %s\n", b ? "OpenCL" : "native", lt_last_error());

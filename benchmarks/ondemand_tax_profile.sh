@@ -2,7 +2,10 @@
 # Instructions per ray of the persistent kernel against the plain trace kernel on a finished
 # tree, counted by callgrind (deterministic: the noise of a shared machine does not reach it).
 # Runs bench_ondemand_tax once under callgrind with a dump after every trace call and prints
-# the measured run's counts (the warm-up pair is left out). Native backend only.
+# the measured run's counts (the warm-up pair is left out). Native backend only, one work-group
+# (WORK_GROUPS=N for more): valgrind runs one thread at a time, so a second work-group out of rays
+# polls the pool for as long as the first one runs, and its polls land in the counts (3 to 26
+# times the plain kernel's instructions per ray in four runs of sphere:6 with two).
 #   benchmarks/ondemand_tax_profile.sh [SCENE] [SIZE] [bvh|kdtree] [BUILD_DIR]
 #                                      (defaults: sphere:6 256 bvh build)
 # For per-line figures, build with CMAKE_C_FLAGS_RELEASE="-O3 -DNDEBUG -g" and run
@@ -15,7 +18,7 @@ out=${KEEP:-$(mktemp -d)}
 mkdir -p "$out"
 valgrind --tool=callgrind --callgrind-out-file="$out/cg.out" --dump-instr=yes --dump-after=$launch \
   --dump-after=lt__trace_finished "$dir/benchmarks/bench_ondemand_tax" "$scene" --size "$size" --runs 1 \
-  --device native --structure "$structure" >"$out/bench.md" 2>"$out/valgrind.log"
+  --device native --structure "$structure" --groups "${WORK_GROUPS:-1}" >"$out/bench.md" 2>"$out/valgrind.log"
 counts=$(grep '^| native' "$out/bench.md" | awk -F'|' '{print $4}' | tr -d ' ' | tr '\n' ' ')
 
 # Dumps in call order: the build; the first plain trace (it finds the primary hits the AO

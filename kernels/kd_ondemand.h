@@ -64,7 +64,12 @@ LT_DEVICE void lt_kd_start(const lt_kd_args *a, lt_kd_ray *q, lt_i32 i) {
   lt_kd_ray_start(q, a->rays + 8 * (long)i, &cell);
 }
 
-LT_DEVICE int lt_kd_args_advance(const lt_kd_args *a, lt_kd_ray *q, lt_trace_counters *c) {
+/* Out of line on the native backend: inlined into the persistent loop, the traversal ran the
+ * plain trace kernel's instructions 1.13-1.25x slower (the time piled up on its node loads);
+ * compiled as a function of its own, as the plain kernel's is, it costs what it costs there,
+ * for one call a ray. docs/notes/kdtree.md ("The persistent kernel's tax") has what was
+ * measured. OpenCL inlines it as before. */
+LT_DEVICE_OUTLINE int lt_kd_args_advance(const lt_kd_args *a, lt_kd_ray *q, lt_trace_counters *c) {
   lt_kd_view v = lt_kd_args_view(a);
   if (a->traversal == LT_KD_TRAVERSE_STACK) return lt_kd_advance(&v, q, a->flags, c);
   lt_kd_advance_stackless(&v, q, a->flags, a->traversal == LT_KD_TRAVERSE_BACKTRACK, c);

@@ -328,6 +328,45 @@ static void kdtree_stackless_traversal_needs_a_full_build(void **state) {
   lt_scene_destroy(scene);
 }
 
+/* A tree the pool finished, traced again through the persistent kernel with each traversal
+ * (the native backend runs it out of line, OpenCL inlined): the reference's closest hits,
+ * every hit written (the native launch writes the caller's array in place, so it starts out as
+ * garbage here), and no node requested. */
+static void kdtree_finished_tree_through_the_persistent_kernel(void **state) {
+  (void)state;
+  int have_opencl = lt_test_opencl_available();
+  lt_scene *scene;
+  assert_int_equal(lt_scene_load("house-row:2", &scene), LT_OK);
+  lt_ray *rays = malloc(RAY_COUNT * sizeof *rays);
+  lt_hit *hits = malloc(RAY_COUNT * sizeof *hits), *ref = malloc(RAY_COUNT * sizeof *ref);
+  lt_test_camera_rays(scene, "outer", CAMERA_SIZE, CAMERA_SIZE, rays);
+  lt_test_camera_rays(scene, "close", CAMERA_SIZE, CAMERA_SIZE, rays + CAMERA_SIZE * CAMERA_SIZE);
+  lt_test_random_rays(scene, 5, RANDOM_RAYS, rays + 2 * CAMERA_SIZE * CAMERA_SIZE);
+  assert_int_equal(lt_reference_trace(scene, rays, RAY_COUNT, LT_QUERY_CLOSEST, ref), LT_OK);
+  for (int b = 0; b < 2; b++)
+    for (int traversal = LT_KD_TRAVERSAL_STACK; traversal <= LT_KD_TRAVERSAL_BACKTRACK; traversal++) {
+      if (b == 1 && !have_opencl) continue;
+      lt_context *ctx;
+      lt_context_config config = {b == 0 ? LT_DEVICE_NATIVE : LT_DEVICE_OPENCL, 0, 0, 0, 1};
+      assert_int_equal(lt_context_create(&config, &ctx), LT_OK);
+      lt_structure_config sc = kd_config(LT_BUILD_FULL);
+      sc.kd_traversal = traversal;
+      lt_structure *kd;
+      assert_int_equal(lt_structure_create(ctx, scene, &sc, NULL, &kd), LT_OK);
+      lt_stats *stats;
+      lt_stats_create(&stats);
+      memset(hits, 0xab, RAY_COUNT * sizeof *hits);
+      assert_int_equal(lt__kd_launch(lt__structure_kd(kd), rays, RAY_COUNT, LT_QUERY_CLOSEST, hits, 0, stats), LT_OK);
+      assert_int_equal(lt_test_count_mismatches("persistent kernel, finished kd-tree", hits, ref, RAY_COUNT), 0);
+      assert_true(lt_stats_get(stats, "pool.stalls") == 0);
+      lt_stats_destroy(stats);
+      lt_structure_destroy(kd);
+      lt_context_destroy(ctx);
+    }
+  free(rays), free(hits), free(ref);
+  lt_scene_destroy(scene);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(kdtree_statistics_are_filled),
@@ -336,6 +375,7 @@ int main(void) {
       cmocka_unit_test(kdtree_full_pool_is_retried_larger),
       cmocka_unit_test(kdtree_matches_reference_in_every_mode),
       cmocka_unit_test(kdtree_stackless_traversal_needs_a_full_build),
+      cmocka_unit_test(kdtree_finished_tree_through_the_persistent_kernel),
       cmocka_unit_test(kdtree_options_match_reference_on_generators),
       cmocka_unit_test(kdtree_options_never_leak_from_closed_meshes),
   };
