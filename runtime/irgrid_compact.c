@@ -6,8 +6,9 @@
  * were. Once every top cell is built nothing changes any more, so the live part is copied out:
  * the cells some voxel maps to, renumbered in the order the voxel map first meets them (top
  * cells x fastest, then sub-voxels: cells near in space end up near in memory), each cell's
- * list copied after the previous one's, and the sub-maps rebased one after another. The build's
- * scratch buffers go too. Done on the host: it runs once per full build, after the last launch,
+ * list copied after the previous one's (or sharing an earlier cell's equal list), and each sub-map
+ * rewritten as the octree of fewest entries below its level. The build's scratch buffers and
+ * the task pool go too. Done on the host: it runs once per full build, after the last launch,
  * and keeps the device kernel (which PoCL's LLVM already finds hard to compile) as it is. */
 #include <stdlib.h>
 #include <string.h>
@@ -223,6 +224,8 @@ lt_status lt__irgrid_compact(lt__irgrid *g) {
   /* What only the build read: the top lists' offsets, triangle boxes and scratch. */
   lt__buffer *build_only[] = {&g->top_begin, &g->top_fill, &g->prim_boxes, &g->scratch, &g->cell_scratch};
   for (size_t i = 0; i < sizeof build_only / sizeof build_only[0]; i++) lt__buffer_release(build_only[i]);
+  /* And the task pool: a compacted grid is traced by the plain kernel, which takes no tasks. */
+  lt__pool_release(&g->pool);
   g->compacted = 1;
   return LT_OK;
 }
