@@ -12,7 +12,9 @@
  *                >= 0   built: level (bits 28..30) and the index of its sub-map (bits 0..27)
  *                -1     the top level is still being counted (wait)
  *                <= -2  not built yet: -2 - slot, the pool slot of the task that builds it
- *   sub_maps   per built top cell, 8^level cell numbers, sub-voxels x fastest
+ *   sub_maps   per built top cell, 8^level cell numbers, sub-voxels x fastest; once a full
+ *              build is compacted, an entry may instead be -1 - i: the sub-voxel is cut in
+ *              eight, whose entries (of the same two kinds) are sub_maps[i .. i + 8), x fastest
  *   cells      lt_irg_cell: the box the traversal leaves through and the cell's references
  *   refs       triangle numbers, ascending within a cell
  *
@@ -61,7 +63,14 @@ LT_DEVICE lt_i32 lt_irg_lookup(LT_GLOBAL const lt_i32 *top_map, LT_GLOBAL const 
   if (entry < 0) return entry;
   int level = LT_IRG_ENTRY_LEVEL(entry), down = shift - level, mask = (1 << level) - 1;
   int sx = (x >> down) & mask, sy = (y >> down) & mask, sz = (z >> down) & mask;
-  return sub_maps[LT_IRG_ENTRY_BASE(entry) + sx + ((sy + (sz << level)) << level)];
+  lt_i32 cell = sub_maps[LT_IRG_ENTRY_BASE(entry) + sx + ((sy + (sz << level)) << level)];
+  /* A compacted sub-map is an octree below its own level: a negative entry leads to the eight
+   * sub-voxels of half the width that make up its sub-voxel, at sub_maps[-1 - entry], x fastest. */
+  while (cell < 0) {
+    down--;
+    cell = sub_maps[-1 - cell + ((x >> down) & 1) + 2 * ((y >> down) & 1) + 4 * ((z >> down) & 1)];
+  }
+  return cell;
 }
 
 #endif

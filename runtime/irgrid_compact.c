@@ -6,8 +6,9 @@
  * were. Once every top cell is built nothing changes any more, so the live part is copied out:
  * the cells some voxel maps to, renumbered in the order the voxel map first meets them (top
  * cells x fastest, then sub-voxels: cells near in space end up near in memory), each cell's
- * list copied after the previous one's, and the sub-maps rebased one after another. The build's
- * scratch buffers go too. Done on the host: it runs once per full build, after the last launch,
+ * list copied after the previous one's (or sharing an earlier cell's equal list), and each sub-map
+ * rewritten as the octree of fewest entries below its level. The build's scratch buffers and
+ * the task pool go too. Done on the host: it runs once per full build, after the last launch,
  * and keeps the device kernel (which PoCL's LLVM already finds hard to compile) as it is. */
 #include <stdlib.h>
 #include <string.h>
@@ -42,6 +43,69 @@ static int coarsen(lt_i32 *map, int level) {
   return 0;
 }
 
+/* FNV-1a over a reference list's triangle numbers. */
+static size_t list_hash(const lt_i32 *list, int length) {
+  size_t h = 2166136261u;
+  for (int i = 0; i < length; i++) h = (h ^ (size_t)(lt_u32)list[i]) * 16777619u;
+  return h ^ (size_t)length;
+}
+
+/* Whether a compacted cell's list (in refs) is the given list. */
+static int same_list(const lt_irg_cell *cell, const lt_i32 *refs, const lt_i32 *list, int length) {
+  return cell->end - cell->begin == length && !memcmp(refs + cell->begin, list, (size_t)length * sizeof *list);
+}
+
+/* The map being compacted: one top cell's sub-map of side 2^level (x fastest), the cells
+ * renumbered so far and the compact arrays they go to. */
+typedef struct octree {
+  const lt_i32 *map;
+  int side;
+  lt_i32 *renumber;
+  const lt__irgrid_arrays *a;
+  compacted *c;
+  size_t refs;
+} octree;
+
+/* Whether the block of the map at (x, y, z), width wide, maps to one cell. */
+static int uniform(const octree *o, int x, int y, int z, int width) {
+  lt_i32 first = o->map[x + o->side * (y + o->side * z)];
+  for (int k = 0; k < width; k++)
+    for (int j = 0; j < width; j++)
+      for (int i = 0; i < width; i++)
+        if (o->map[x + i + o->side * (y + j + o->side * (z + k))] != first) return 0;
+  return 1;
+}
+
+/* The entries the octree below one block takes (0 when it is one cell). */
+static size_t octree_size(const octree *o, int x, int y, int z, int width) {
+  if (uniform(o, x, y, z, width)) return 0;
+  size_t size = 8;
+  int half = width / 2;
+  for (int oct = 0; oct < 8; oct++)
+    size += octree_size(o, x + (oct & 1) * half, y + (oct >> 1 & 1) * half, z + (oct >> 2) * half, half);
+  return size;
+}
+
+/* The entry for one block: its cell's new number, or -1 - where its eight halves go. */
+static lt_i32 octree_entry(octree *o, int x, int y, int z, int width) {
+  if (uniform(o, x, y, z, width)) {
+    lt_i32 old = o->map[x + o->side * (y + o->side * z)];
+    if (o->renumber[old] < 0) {
+      o->renumber[old] = o->c->cell_count;
+      o->c->cells[o->c->cell_count++] = o->a->cells[old];
+      o->refs += (size_t)(o->a->cells[old].end - o->a->cells[old].begin);
+    }
+    return o->renumber[old];
+  }
+  lt_i32 node = o->c->sub_count;
+  o->c->sub_count += 8;
+  int half = width / 2;
+  for (int oct = 0; oct < 8; oct++)
+    o->c->sub_maps[node + oct] =
+        octree_entry(o, x + (oct & 1) * half, y + (oct >> 1 & 1) * half, z + (oct >> 2) * half, half);
+  return -1 - node;
+}
+
 /* Renumbers the live cells of a (every top cell built; its sub-maps are coarsened in place)
  * and lays out the compact arrays. */
 static lt_status compact_arrays(const lt__irgrid *g, lt__irgrid_arrays *a, compacted *c) {
@@ -56,8 +120,10 @@ static lt_status compact_arrays(const lt__irgrid *g, lt__irgrid_arrays *a, compa
   }
   for (int i = 0; i < a->cell_count; i++) renumber[i] = -1;
 
-  /* Cells in the order the voxel map meets them; sub-maps one after another. */
-  size_t refs = 0;
+  /* Cells in the order the voxel map meets them; sub-maps one after another, each as the
+   * octree that takes the fewest entries (the shallowest of those), its top at the level
+   * whose sub-voxels the top map's entry names. */
+  octree o = {NULL, 0, renumber, a, c, 0};
   for (int t = 0; t < g->top_count; t++) {
     lt_i32 entry = a->top_map[t];
     if (entry < 0) {
@@ -67,32 +133,54 @@ static lt_status compact_arrays(const lt__irgrid *g, lt__irgrid_arrays *a, compa
     int level = LT_IRG_ENTRY_LEVEL(entry);
     lt_i32 *sub = a->sub_maps + LT_IRG_ENTRY_BASE(entry);
     level = coarsen(sub, level);
-    c->top_map[t] = LT_IRG_ENTRY(level, c->sub_count);
-    for (int s = 0; s < 1 << (3 * level); s++) {
-      lt_i32 old = sub[s];
-      if (renumber[old] < 0) {
-        renumber[old] = c->cell_count;
-        c->cells[c->cell_count++] = a->cells[old];
-        refs += (size_t)(a->cells[old].end - a->cells[old].begin);
-      }
-      c->sub_maps[c->sub_count++] = renumber[old];
+    o.map = sub, o.side = 1 << level;
+    int top = level;
+    size_t best = (size_t)1 << (3 * level);
+    for (int l = level - 1; l >= 0; l--) {
+      int width = 1 << (level - l), side = 1 << l;
+      size_t size = (size_t)1 << (3 * l);
+      for (int s = 0; s < side * side * side; s++)
+        size += octree_size(&o, s % side * width, s / side % side * width, s / (side * side) * width, width);
+      if (size < best) best = size, top = l;
     }
+    int width = 1 << (level - top), side = 1 << top;
+    lt_i32 base = c->sub_count;
+    c->top_map[t] = LT_IRG_ENTRY(top, base);
+    c->sub_count += side * side * side;
+    for (int s = 0; s < side * side * side; s++)
+      c->sub_maps[base + s] =
+          octree_entry(&o, s % side * width, s / side % side * width, s / (side * side) * width, width);
   }
   free(renumber);
+  size_t refs = o.refs;
 
-  /* Each live cell's list after the previous one's. */
+  /* Each live cell's list after the previous one's, or, when an earlier cell holds the very same
+   * list, that cell's: readers only read refs[begin .. end), never write it. */
   c->refs = malloc((refs + 1) * sizeof *c->refs);
-  if (!c->refs) {
-    compacted_free(c);
+  size_t slots = 1;
+  while (slots < 2 * (size_t)c->cell_count + 2) slots *= 2;
+  lt_i32 *table = malloc(slots * sizeof *table);
+  if (!c->refs || !table) {
+    free(table), compacted_free(c);
     return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory compacting %zu references", refs);
   }
+  for (size_t s = 0; s < slots; s++) table[s] = -1;
   for (int i = 0; i < c->cell_count; i++) {
     lt_irg_cell *cell = &c->cells[i];
+    const lt_i32 *list = a->refs + cell->begin;
     int length = cell->end - cell->begin;
-    memcpy(c->refs + c->ref_count, a->refs + cell->begin, (size_t)length * sizeof *c->refs);
+    size_t s = list_hash(list, length) & (slots - 1);
+    while (table[s] >= 0 && !same_list(&c->cells[table[s]], c->refs, list, length)) s = (s + 1) & (slots - 1);
+    if (table[s] >= 0) {
+      cell->begin = c->cells[table[s]].begin, cell->end = c->cells[table[s]].end;
+      continue;
+    }
+    memcpy(c->refs + c->ref_count, list, (size_t)length * sizeof *c->refs);
     cell->begin = c->ref_count, cell->end = c->ref_count + length;
     c->ref_count += length;
+    table[s] = i;
   }
+  free(table);
   return LT_OK;
 }
 
@@ -136,6 +224,8 @@ lt_status lt__irgrid_compact(lt__irgrid *g) {
   /* What only the build read: the top lists' offsets, triangle boxes and scratch. */
   lt__buffer *build_only[] = {&g->top_begin, &g->top_fill, &g->prim_boxes, &g->scratch, &g->cell_scratch};
   for (size_t i = 0; i < sizeof build_only / sizeof build_only[0]; i++) lt__buffer_release(build_only[i]);
+  /* And the task pool: a compacted grid is traced by the plain kernel, which takes no tasks. */
+  lt__pool_release(&g->pool);
   g->compacted = 1;
   return LT_OK;
 }

@@ -57,7 +57,8 @@ lt_status lt__irgrid_merge(lt__irgrid *g, lt_stats *stats);
 lt_status lt__irgrid_trace_finished(lt__irgrid *g, const lt_ray *rays, int count, int flags, lt_hit *hits,
                                     lt_stats *stats);
 /* Gives back what a finished grid no longer needs (runtime/irgrid_compact.c): cells and
- * lists that merging replaced, the top lists, the build's scratch. Every top cell must be
+ * lists that merging replaced, the top lists, the build's scratch, the task pool; the lists
+ * that equal an earlier cell's shared and the sub-maps made octrees. Every top cell must be
  * built; traversal finds the same cells' contents at the same voxels. On failure the grid is
  * left as it was. */
 lt_status lt__irgrid_compact(lt__irgrid *g);
