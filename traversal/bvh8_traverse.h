@@ -22,7 +22,8 @@
  *
  * Traversal: at an inner child the ray meets its children's eight boxes; one entered goes on
  * at once, several go on the stack with their entry distances sorted so that the nearest is
- * on top and taken next (an any-hit query sorts no more than two: any hit ends it). Leaves
+ * on top and taken next. An any-hit query compares no distances (any hit ends it): the first
+ * lane entered goes on, the others wait in lane order. Leaves
  * wait on the stack like inner children, so triangles are tested near to far too. A popped
  * child whose entry distance lies behind the best hit is dropped. */
 #ifndef LT_BVH8_TRAVERSE_H
@@ -299,6 +300,23 @@ LT_BVH8_TARGET static inline int lt_bvh8_traverse_from(const lt_bvh8_node *nodes
           continue;
         }
 
+        /* Any hit: no order to keep, as Embree's occlusion traversal: the first entered on at
+         * once, the others on the stack in lane order, without their entry distances (read only
+         * to order and cull, which an any-hit query does not do). */
+        if (any_hit) {
+          if (sp + LT_BVH8_WIDTH > LT_BVH8_STACK_SIZE) {
+            status = -1;
+            break;
+          }
+          do {
+            int other = __builtin_ctz((unsigned)mask);
+            mask &= mask - 1;
+            stack[sp].first = n->first[other], stack[sp].count = n->count[other], sp++;
+          } while (mask);
+          first = n->first[lane], count = n->count[lane];
+          continue;
+        }
+
         /* Two: the nearer on, the farther on the stack. */
         if (!(mask & (mask - 1))) {
           if (sp == LT_BVH8_STACK_SIZE) {
@@ -319,17 +337,6 @@ LT_BVH8_TARGET static inline int lt_bvh8_traverse_from(const lt_bvh8_node *nodes
         }
         int base = sp;
         stack[sp].first = n->first[lane], stack[sp].count = n->count[lane], stack[sp].t = t[lane], sp++;
-        if (any_hit) {
-          /* Any hit: no order to keep (as Embree's occlusion traversal), the last one next. */
-          do {
-            lane = __builtin_ctz((unsigned)mask);
-            mask &= mask - 1;
-            stack[sp].first = n->first[lane], stack[sp].count = n->count[lane], stack[sp].t = t[lane], sp++;
-          } while (mask);
-          sp--;
-          first = stack[sp].first, count = stack[sp].count;
-          continue;
-        }
         do {
           lane = __builtin_ctz((unsigned)mask);
           mask &= mask - 1;
