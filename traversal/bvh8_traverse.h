@@ -248,20 +248,13 @@ LT_BVH8_TARGET static inline int lt_bvh8_exit_lanes(const lt_bvh8_node *n) {
   return _mm256_movemask_ps(_mm256_and_ps(first, count)) & 0xff;
 }
 
-/* Traces one ray prepared with lt_ray_prepare (its flags set) through the 8-wide subtree whose
- * root's children are the lanes of node `root`, from the best hit so far in *io (prim -1 and
- * t = tmax when none), which it updates. Returns 0, or -1 when the stack would overflow (never
- * on a tree of LT_BVH_MAX_DEPTH levels). `vector` 0 takes the plain box test and tests every
- * triangle one by one (the tests compare both). The on-demand traversal enters the wide
- * tree of its tree's built part here (kernels/native_bvh_wide.c): exit lanes the ray enters
- * go to exits[] (at most max_exits, *exit_count of them; 1 is returned when more would), with
- * their entry distances, for the binary traversal; exits NULL: the tree has none. */
-LT_BVH8_TARGET static inline int lt_bvh8_traverse_from(const lt_bvh8_node *nodes, const lt_tri4 *blocks,
-                                                       const lt_tri *tris, const lt_ray_setup *r, lt_i32 root,
-                                                       lt_hit_record *io, lt_trace_counters *c, int vector,
-                                                       lt_bvh8_item *exits, int max_exits, int *exit_count) {
+/* lt_bvh8_traverse_from for one kind of query, any_hit a constant where it is inlined. */
+LT_BVH8_TARGET __attribute__((always_inline)) static inline int
+lt_bvh8_traverse_query(const lt_bvh8_node *nodes, const lt_tri4 *blocks, const lt_tri *tris, const lt_ray_setup *r,
+                       lt_i32 root, lt_hit_record *io, lt_trace_counters *c, int vector, lt_bvh8_item *exits,
+                       int max_exits, int *exit_count, int any_hit) {
   lt_hit_record hit = *io;
-  int any_hit = r->flags & LT_QUERY_FLAG_ANY, status = 0;
+  int status = 0;
   lt_bvh8_ray q = lt_bvh8_ray_make(r);
   lt_bvh8_item stack[LT_BVH8_STACK_SIZE];
   int sp = 0;
@@ -365,6 +358,25 @@ LT_BVH8_TARGET static inline int lt_bvh8_traverse_from(const lt_bvh8_node *nodes
   c->traversal_steps += steps, c->intersections += tests;
   *io = hit;
   return status;
+}
+
+/* Traces one ray prepared with lt_ray_prepare (its flags set) through the 8-wide subtree whose
+ * root's children are the lanes of node `root`, from the best hit so far in *io (prim -1 and
+ * t = tmax when none), which it updates. Returns 0, or -1 when the stack would overflow (never
+ * on a tree of LT_BVH_MAX_DEPTH levels). `vector` 0 takes the plain box test and tests every
+ * triangle one by one (the tests compare both). The on-demand traversal enters the wide
+ * tree of its tree's built part here (kernels/native_bvh_wide.c): exit lanes the ray enters
+ * go to exits[] (at most max_exits, *exit_count of them; 1 is returned when more would), with
+ * their entry distances, for the binary traversal; exits NULL: the tree has none. The
+ * traversal is made twice, once for any-hit queries and once for closest hits, so that
+ * neither tests the kind of query in its loop. */
+LT_BVH8_TARGET __attribute__((always_inline)) static inline int
+lt_bvh8_traverse_from(const lt_bvh8_node *nodes, const lt_tri4 *blocks, const lt_tri *tris, const lt_ray_setup *r,
+                      lt_i32 root, lt_hit_record *io, lt_trace_counters *c, int vector, lt_bvh8_item *exits,
+                      int max_exits, int *exit_count) {
+  if (r->flags & LT_QUERY_FLAG_ANY)
+    return lt_bvh8_traverse_query(nodes, blocks, tris, r, root, io, c, vector, exits, max_exits, exit_count, 1);
+  return lt_bvh8_traverse_query(nodes, blocks, tris, r, root, io, c, vector, exits, max_exits, exit_count, 0);
 }
 
 /* Traces one ray through a whole finished 8-wide tree (node 0 holds the root's children);
