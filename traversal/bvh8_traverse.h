@@ -22,7 +22,8 @@
  *
  * Traversal: at an inner child the ray meets its children's eight boxes; one entered goes on
  * at once, several go on the stack with their entry distances sorted so that the nearest is
- * on top and taken next (an any-hit query sorts no more than two: any hit ends it). Leaves
+ * on top and taken next. An any-hit query compares no distances (any hit ends it): the first
+ * lane entered goes on, the others wait in lane order. Leaves
  * wait on the stack like inner children, so triangles are tested near to far too. A popped
  * child whose entry distance lies behind the best hit is dropped. */
 #ifndef LT_BVH8_TRAVERSE_H
@@ -247,20 +248,13 @@ LT_BVH8_TARGET static inline int lt_bvh8_exit_lanes(const lt_bvh8_node *n) {
   return _mm256_movemask_ps(_mm256_and_ps(first, count)) & 0xff;
 }
 
-/* Traces one ray prepared with lt_ray_prepare (its flags set) through the 8-wide subtree whose
- * root's children are the lanes of node `root`, from the best hit so far in *io (prim -1 and
- * t = tmax when none), which it updates. Returns 0, or -1 when the stack would overflow (never
- * on a tree of LT_BVH_MAX_DEPTH levels). `vector` 0 takes the plain box test and tests every
- * triangle one by one (the tests compare both). The on-demand traversal enters the wide
- * tree of its tree's built part here (kernels/native_bvh_wide.c): exit lanes the ray enters
- * go to exits[] (at most max_exits, *exit_count of them; 1 is returned when more would), with
- * their entry distances, for the binary traversal; exits NULL: the tree has none. */
-LT_BVH8_TARGET static inline int lt_bvh8_traverse_from(const lt_bvh8_node *nodes, const lt_tri4 *blocks,
-                                                       const lt_tri *tris, const lt_ray_setup *r, lt_i32 root,
-                                                       lt_hit_record *io, lt_trace_counters *c, int vector,
-                                                       lt_bvh8_item *exits, int max_exits, int *exit_count) {
+/* lt_bvh8_traverse_from for one kind of query, any_hit a constant where it is inlined. */
+LT_BVH8_TARGET __attribute__((always_inline)) static inline int
+lt_bvh8_traverse_query(const lt_bvh8_node *nodes, const lt_tri4 *blocks, const lt_tri *tris, const lt_ray_setup *r,
+                       lt_i32 root, lt_hit_record *io, lt_trace_counters *c, int vector, lt_bvh8_item *exits,
+                       int max_exits, int *exit_count, int any_hit) {
   lt_hit_record hit = *io;
-  int any_hit = r->flags & LT_QUERY_FLAG_ANY, status = 0;
+  int status = 0;
   lt_bvh8_ray q = lt_bvh8_ray_make(r);
   lt_bvh8_item stack[LT_BVH8_STACK_SIZE];
   int sp = 0;
@@ -299,6 +293,23 @@ LT_BVH8_TARGET static inline int lt_bvh8_traverse_from(const lt_bvh8_node *nodes
           continue;
         }
 
+        /* Any hit: no order to keep, as Embree's occlusion traversal: the first entered on at
+         * once, the others on the stack in lane order, without their entry distances (read only
+         * to order and cull, which an any-hit query does not do). */
+        if (any_hit) {
+          if (sp + LT_BVH8_WIDTH > LT_BVH8_STACK_SIZE) {
+            status = -1;
+            break;
+          }
+          do {
+            int other = __builtin_ctz((unsigned)mask);
+            mask &= mask - 1;
+            stack[sp].first = n->first[other], stack[sp].count = n->count[other], sp++;
+          } while (mask);
+          first = n->first[lane], count = n->count[lane];
+          continue;
+        }
+
         /* Two: the nearer on, the farther on the stack. */
         if (!(mask & (mask - 1))) {
           if (sp == LT_BVH8_STACK_SIZE) {
@@ -319,17 +330,6 @@ LT_BVH8_TARGET static inline int lt_bvh8_traverse_from(const lt_bvh8_node *nodes
         }
         int base = sp;
         stack[sp].first = n->first[lane], stack[sp].count = n->count[lane], stack[sp].t = t[lane], sp++;
-        if (any_hit) {
-          /* Any hit: no order to keep (as Embree's occlusion traversal), the last one next. */
-          do {
-            lane = __builtin_ctz((unsigned)mask);
-            mask &= mask - 1;
-            stack[sp].first = n->first[lane], stack[sp].count = n->count[lane], stack[sp].t = t[lane], sp++;
-          } while (mask);
-          sp--;
-          first = stack[sp].first, count = stack[sp].count;
-          continue;
-        }
         do {
           lane = __builtin_ctz((unsigned)mask);
           mask &= mask - 1;
@@ -358,6 +358,25 @@ LT_BVH8_TARGET static inline int lt_bvh8_traverse_from(const lt_bvh8_node *nodes
   c->traversal_steps += steps, c->intersections += tests;
   *io = hit;
   return status;
+}
+
+/* Traces one ray prepared with lt_ray_prepare (its flags set) through the 8-wide subtree whose
+ * root's children are the lanes of node `root`, from the best hit so far in *io (prim -1 and
+ * t = tmax when none), which it updates. Returns 0, or -1 when the stack would overflow (never
+ * on a tree of LT_BVH_MAX_DEPTH levels). `vector` 0 takes the plain box test and tests every
+ * triangle one by one (the tests compare both). The on-demand traversal enters the wide
+ * tree of its tree's built part here (kernels/native_bvh_wide.c): exit lanes the ray enters
+ * go to exits[] (at most max_exits, *exit_count of them; 1 is returned when more would), with
+ * their entry distances, for the binary traversal; exits NULL: the tree has none. The
+ * traversal is made twice, once for any-hit queries and once for closest hits, so that
+ * neither tests the kind of query in its loop. */
+LT_BVH8_TARGET __attribute__((always_inline)) static inline int
+lt_bvh8_traverse_from(const lt_bvh8_node *nodes, const lt_tri4 *blocks, const lt_tri *tris, const lt_ray_setup *r,
+                      lt_i32 root, lt_hit_record *io, lt_trace_counters *c, int vector, lt_bvh8_item *exits,
+                      int max_exits, int *exit_count) {
+  if (r->flags & LT_QUERY_FLAG_ANY)
+    return lt_bvh8_traverse_query(nodes, blocks, tris, r, root, io, c, vector, exits, max_exits, exit_count, 1);
+  return lt_bvh8_traverse_query(nodes, blocks, tris, r, root, io, c, vector, exits, max_exits, exit_count, 0);
 }
 
 /* Traces one ray through a whole finished 8-wide tree (node 0 holds the root's children);
