@@ -19,7 +19,7 @@ int lt__ondemand_slab_count = 64;
 
 static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, int count, int flags, int speculate,
                         int setup);
-static lt_status read_counters(lt__ondemand *od, lt_stats *stats);
+static lt_status read_counters(lt__ondemand *od, lt_stats *stats, int traversal);
 
 /* A per-frame array that a scene rebuilt every frame would otherwise fault in again every frame:
  * on native, host memory kept on the context (taken here, given back at release); on OpenCL a
@@ -125,7 +125,7 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
     lt__buffer_release(&none);
   }
   if (!status) status = lt__pool_end_launch(&od->pool, NULL); /* a full pool, said as such */
-  if (!status) status = read_counters(od, NULL);
+  if (!status) status = read_counters(od, NULL, 1);
   if (status) lt__ondemand_release(od);
   return status;
 }
@@ -195,7 +195,7 @@ static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, in
 
 /* Adds the launch's build and traversal counters, summed over the work-groups, to stats and
  * to the tree's totals, and clears them for the next launch. */
-static lt_status read_counters(lt__ondemand *od, lt_stats *stats) {
+static lt_status read_counters(lt__ondemand *od, lt_stats *stats, int traversal) {
   static const int stat_of[LT_BVH_STAT_COUNT] = {
 #define LT_BVH_STAT_TARGET(id, stat) stat,
       LT_BVH_STAT_LIST(LT_BVH_STAT_TARGET)
@@ -212,13 +212,16 @@ static lt_status read_counters(lt__ondemand *od, lt_stats *stats) {
   if (status) return status;
   od->leaves += sum[LT_BVH_STAT_LEAVES];
   od->sort_ops += sum[LT_BVH_STAT_SORT_OPS];
-  for (int k = 0; k < LT_BVH_STAT_COUNT; k++)
-    if (stat_of[k] != LT_STAT_NONE) lt__stats_add(stats, (lt_stat_id)stat_of[k], sum[k]);
+  for (int k = 0; k < LT_BVH_STAT_COUNT; k++) {
+    int visits = k == LT_BVH_STAT_STEPS || k == LT_BVH_STAT_TESTS;
+    if (stat_of[k] != LT_STAT_NONE && (traversal || !visits)) lt__stats_add(stats, (lt_stat_id)stat_of[k], sum[k]);
+  }
   return lt__buffer_fill(ctx, &od->counters, 0);
 }
 
-lt_status lt__ondemand_launch(lt__ondemand *od, const lt_ray *rays, int count, int flags, lt_hit *hits,
-                              int speculate, lt_stats *stats) {
+/* One launch over the batch; `traversal`: whether its node visits and triangle tests count. */
+static lt_status launch_batch(lt__ondemand *od, const lt_ray *rays, int count, int flags, lt_hit *hits,
+                              int speculate, lt_stats *stats, int traversal) {
   lt_context *ctx = od->ctx;
   lt__buffer ray_buf, hit_buf;
   /* Before rays are traced again, what the last launches finished becomes wide (counted in
@@ -232,8 +235,26 @@ lt_status lt__ondemand_launch(lt__ondemand *od, const lt_ray *rays, int count, i
   if (!status) status = launch(od, &ray_buf, &hit_buf, count, flags, speculate, 0);
   if (!status) status = lt__pool_end_launch(&od->pool, stats);
   status = lt__batch_buffers_end(ctx, &ray_buf, &hit_buf, hits, count, status);
-  if (!status) status = read_counters(od, stats);
+  if (!status) status = read_counters(od, stats, traversal);
   return status;
+}
+
+lt_status lt__ondemand_launch(lt__ondemand *od, const lt_ray *rays, int count, int flags, lt_hit *hits,
+                              int speculate, lt_stats *stats) {
+  int stride = od->wide_on && !od->wide_hold ? lt__ondemand_wide_sample(count) : 0;
+  if (stride == 0) return launch_batch(od, rays, count, flags, hits, speculate, stats, 1);
+  /* Every stride-th ray first: it has the pool build most of what the batch needs, which the
+   * whole batch's launch then crosses on the wide layout (runtime/bvh_wide_host.c). The
+   * sample's rays are traced again there; only that second trace's visits count. */
+  int n = (count + stride - 1) / stride;
+  lt_ray *sample = malloc((size_t)n * sizeof *sample);
+  lt_hit *sample_hits = malloc((size_t)n * sizeof *sample_hits);
+  lt_status status = sample && sample_hits ? LT_OK : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a ray sample");
+  for (int i = 0; !status && i < n; i++) sample[i] = rays[(size_t)i * stride];
+  if (!status) status = launch_batch(od, sample, n, flags, sample_hits, speculate, stats, 0);
+  free(sample);
+  free(sample_hits);
+  return status ? status : launch_batch(od, rays, count, flags, hits, speculate, stats, 1);
 }
 
 int lt__ondemand_heap_full(lt__ondemand *od) {

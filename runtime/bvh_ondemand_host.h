@@ -36,6 +36,10 @@ typedef struct lt__ondemand {
  * on demand, a CPU with AVX2, and not LT_BVH_WIDE=0 in the environment (the switch that
  * measures binary against wide traversal). */
 int lt__ondemand_wide_wanted(const lt_context *ctx, int pool_mode);
+/* The stride of the ray sample traced before a batch of `count` rays (so that the batch runs
+ * on a tree collapsed after the sample's builds), or 0 for none: LT_BVH_WIDE_SAMPLE (default
+ * 16; 0 turns it off), and none for batches under 1024 samples. */
+int lt__ondemand_wide_sample(int count);
 /* Collapses the tree as far as it is built into the wide tree, and marks the root's link
  * wide (only while no launch is running). */
 lt_status lt__ondemand_widen(lt__ondemand *od);

@@ -224,6 +224,42 @@ static void ondemand_wide_memory_is_counted(void **state) {
   lt_scene_destroy(scene);
 }
 
+/* A batch large enough is traced in two launches (runtime/bvh_ondemand_host.c): every second
+ * ray first, then the whole batch on the tree collapsed in between. The first trace on a new
+ * tree then makes one collapse (none with the sample off), and its hits are brute force's. */
+static void ondemand_wide_first_launch_runs_after_a_sample(void **state) {
+  (void)state;
+  if (!wide_here()) skip();
+  const char *const scenes[] = {"hairball:300", "house-grid:2x2", "teapot-stadium"};
+  for (int s = 0; s < 3; s++) {
+    lt_scene *scene;
+    assert_int_equal(lt_scene_load(scenes[s], &scene), LT_OK);
+    size_t n;
+    lt_ray *rays = lt_test_generator_rays(scene, 64, 512, 5 + s, &n);
+    assert_true(n >= 2 * 1024);
+    lt_hit *ref = malloc(n * sizeof *ref), *hits = malloc(n * sizeof *hits);
+    assert_int_equal(lt_reference_trace(scene, rays, n, LT_QUERY_CLOSEST, ref), LT_OK);
+    for (int mode = LT_BUILD_REQUESTED; mode <= LT_BUILD_SPECULATIVE; mode++)
+      for (int sampled = 0; sampled < 2; sampled++) {
+        setenv("LT_BVH_WIDE_SAMPLE", sampled ? "2" : "0", 1);
+        lt_context *ctx;
+        lt_structure *bvh = make_tree(scene, (lt_build_mode)mode, 2, &ctx);
+        memset(hits, 0xab, n * sizeof *hits);
+        assert_int_equal(lt_structure_trace(bvh, rays, n, LT_QUERY_CLOSEST, hits, NULL), LT_OK);
+        char what[160];
+        snprintf(what, sizeof what, "%s %s, %s", scenes[s], lt_build_mode_name((lt_build_mode)mode),
+                 sampled ? "after a sample" : "one launch");
+        assert_int_equal(lt_test_count_mismatches(what, hits, ref, n), 0);
+        assert_int_equal(lt__structure_ondemand(bvh)->wide_collapses, sampled);
+        lt_structure_destroy(bvh);
+        lt_context_destroy(ctx);
+        unsetenv("LT_BVH_WIDE_SAMPLE");
+      }
+    free(rays), free(ref), free(hits);
+    lt_scene_destroy(scene);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(ondemand_wide_copies_are_what_rays_see),
@@ -231,6 +267,7 @@ int main(void) {
       cmocka_unit_test(ondemand_wide_closed_meshes_never_leak),
       cmocka_unit_test(ondemand_wide_matches_reference_across_launches),
       cmocka_unit_test(ondemand_wide_exits_that_do_not_fit_fall_back),
+      cmocka_unit_test(ondemand_wide_first_launch_runs_after_a_sample),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
