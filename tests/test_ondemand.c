@@ -233,7 +233,9 @@ static void ondemand_nodes_equal_the_full_tree(void **state) {
     int count, *index;
     assert_int_equal(lt__ondemand_snapshot(lt__structure_ondemand(bvh), &nodes, &count, &index), LT_OK);
     tree_pair p = {&full, nodes, index, 0, 0};
-    assert_true(nodes[0].link[0] >= 0 && nodes[0].link[2] == 0);
+    /* (Natively a large batch leaves the root's link marked wide: a collapse ran after the
+     * batch's sample; the binary nodes under it are the same.) */
+    assert_true(nodes[0].link[0] >= 0 && (nodes[0].link[2] == 0 || lt_bvh_child_is_wide(nodes[0].link[2])));
     p.compared_nodes = 1;
     compare_child(&p, &full.nodes[0], &nodes[nodes[0].link[0]], 0);
     compare_child(&p, &full.nodes[0], &nodes[nodes[0].link[0]], 1);
