@@ -47,11 +47,10 @@ int main(int argc, char **argv) {
     /* Lists in cell order: one laid after the previous ends where the next begins; one that
      * begins before the farthest end so far shares (part of) an earlier cell's. */
     long shared = 0, shared_refs = 0, consecutive = 0, runs = 0, singles = 0, small = 0, medium = 0, large = 0;
-    long laid = 0, lists = 0;
+    long laid = 0;
     for (int c = 0; c < a.cell_count; c++) {
       const lt_irg_cell *cell = &a.cells[c];
       int length = cell->end - cell->begin;
-      if (length > 0) lists++;
       if (cell->begin < laid && length > 0)
         shared++, shared_refs += length;
       else if (cell->end > laid)
@@ -102,7 +101,6 @@ int main(int argc, char **argv) {
              "| %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f |\n", argv[s], MB(a.cell_count * 32.0),
              MB(a.cell_count * 16.0), MB(a.ref_count * 4.0), MB(unshared_refs * 4.0), MB(run_words * 4.0),
              MB((double)delta16), MB((double)varint));
-    (void)lists;
     lt__irgrid_arrays_free(&a);
     lt_structure_destroy(st);
     lt_scene_destroy(scene);
