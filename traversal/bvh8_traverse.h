@@ -116,8 +116,8 @@ LT_BVH8_TARGET static inline void lt_bvh8_ray_prepare(const float *ray, int flag
   r->sz = 1.0f / dkz;
 }
 
-/* One bit per lane that holds a child (count != 0): empty lanes have empty boxes, which the
- * slab arithmetic does not reject by itself. */
+/* One bit per lane that holds a child (count != 0). The vector test does without it: an empty
+ * lane's box (LT_BVH8_EMPTY_LANE_BOX) is rejected by the slab arithmetic itself. */
 LT_BVH8_TARGET static inline int lt_bvh8_child_lanes(const lt_bvh8_node *n) {
   __m256i count = _mm256_loadu_si256((const __m256i *)n->count);
   __m256i empty = _mm256_cmpeq_epi32(count, _mm256_setzero_si256());
@@ -136,7 +136,9 @@ static inline int lt_bvh8_box8_scalar(const lt_ray_setup *r, const lt_bvh8_node 
   return mask;
 }
 
-/* The same eight tests as one AVX register per slab, empty lanes dropped. */
+/* The same eight tests as one AVX register per slab. Empty lanes are dropped by their box (a
+ * far point, device/bvh8_node.h), not by a mask of the lanes in use: one entered all the same
+ * (a ray through that very point) is a leaf of no triangles. */
 LT_BVH8_TARGET static inline int lt_bvh8_box8(const lt_ray_setup *r, const lt_bvh8_ray *q, const lt_bvh8_node *n,
                                               float tmax, float t_entry[8]) {
   if (q->parallel) return lt_bvh8_box8_scalar(r, n, tmax, t_entry) & lt_bvh8_child_lanes(n);
@@ -158,7 +160,7 @@ LT_BVH8_TARGET static inline int lt_bvh8_box8(const lt_ray_setup *r, const lt_bv
   near_t = _mm256_max_ps(near_t, q->tmin);
   far_t = _mm256_min_ps(far_t, _mm256_set1_ps(tmax));
   _mm256_storeu_ps(t_entry, near_t);
-  return _mm256_movemask_ps(_mm256_cmp_ps(near_t, far_t, _CMP_LE_OS)) & lt_bvh8_child_lanes(n);
+  return _mm256_movemask_ps(_mm256_cmp_ps(near_t, far_t, _CMP_LE_OS));
 }
 
 /* The one-triangle test of the ray's kind on triangle t. */
