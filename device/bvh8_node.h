@@ -12,7 +12,7 @@
  *           traversal hands it back to the binary one (first is then that traversal's stack
  *           entry for the link)
  *   leaf    count > 0: `count` triangles (lt_tri) from position `first`, a multiple of 4
- *   empty   count == 0: an unused lane
+ *   empty   count == 0: an unused lane, whose box is the point LT_BVH8_EMPTY_LANE_BOX (below)
  *
  * The tree has its own copy of the triangles in leaf order, each leaf starting at a multiple
  * of four (the lanes up to the next one are padding, never tested), and beside it the same
@@ -51,6 +51,13 @@ typedef struct lt_tri4 {
 _Static_assert(sizeof(lt_tri4) == 144, "lt_tri4 is 144 bytes");
 _Static_assert(sizeof(lt_bvh8_node) == 256, "lt_bvh8_node is four 64-byte lines");
 #endif
+
+/* The box of an empty lane: one point far off, off the axes and diagonals, which the 8-wide
+ * slab test rejects by itself (the entry of one axis lies past the exit of another) for every
+ * ray that does not pass through that very point within the slabs' rounding (and whose three
+ * distances to it do not all overflow), so that the vector traversal needs no mask of the lanes
+ * in use. An empty lane entered all the same is a leaf of no triangles: nothing is tested. */
+#define LT_BVH8_EMPTY_LANE_BOX {{1e30f, -2e30f, 3e30f}, {1e30f, -2e30f, 3e30f}}
 
 /* Writes lane `lane` of a node that no traversal reads yet (the host's collapse). */
 LT_DEVICE void lt_bvh8_write_child(lt_bvh8_node *n, int lane, const lt_box *b, lt_i32 first, lt_i32 count) {

@@ -61,6 +61,7 @@ typedef struct lt_bvh8_ray {
   __m128 org_kx, org_ky, org_kz, sx4, sy4, sz4; /* origin on the shear's axes and shear, one lane per triangle */
   int parallel;             /* some direction component is 0 (or -0): the plain form decides */
   int widen;                /* conservative rounding (all but the accuracy report's plain slabs) */
+  int unusual;              /* parallel or not widen: one test a visit sends both off the common path */
   int filter;               /* the watertight test: leaves are tested four triangles at a time */
 } lt_bvh8_ray;
 
@@ -73,6 +74,7 @@ LT_BVH8_TARGET static inline lt_bvh8_ray lt_bvh8_ray_make(const lt_ray_setup *r)
   q.filter = !(r->flags & LT_QUERY_FLAG_FAST_TRIANGLES);
   q.parallel = r->parallel;
   q.widen = !(r->flags & LT_QUERY_FLAG_PLAIN_SLABS);
+  q.unusual = q.parallel || !q.widen;
   return q;
 }
 
@@ -116,8 +118,8 @@ LT_BVH8_TARGET static inline void lt_bvh8_ray_prepare(const float *ray, int flag
   r->sz = 1.0f / dkz;
 }
 
-/* One bit per lane that holds a child (count != 0): empty lanes have empty boxes, which the
- * slab arithmetic does not reject by itself. */
+/* One bit per lane that holds a child (count != 0). The vector test does without it: an empty
+ * lane's box (LT_BVH8_EMPTY_LANE_BOX) is rejected by the slab arithmetic itself. */
 LT_BVH8_TARGET static inline int lt_bvh8_child_lanes(const lt_bvh8_node *n) {
   __m256i count = _mm256_loadu_si256((const __m256i *)n->count);
   __m256i empty = _mm256_cmpeq_epi32(count, _mm256_setzero_si256());
@@ -136,10 +138,11 @@ static inline int lt_bvh8_box8_scalar(const lt_ray_setup *r, const lt_bvh8_node 
   return mask;
 }
 
-/* The same eight tests as one AVX register per slab, empty lanes dropped. */
-LT_BVH8_TARGET static inline int lt_bvh8_box8(const lt_ray_setup *r, const lt_bvh8_ray *q, const lt_bvh8_node *n,
-                                              float tmax, float t_entry[8]) {
-  if (q->parallel) return lt_bvh8_box8_scalar(r, n, tmax, t_entry) & lt_bvh8_child_lanes(n);
+/* The same eight tests as one AVX register per slab. Empty lanes are dropped by their box (a
+ * far point, device/bvh8_node.h), not by a mask of the lanes in use: one entered all the same
+ * (a ray through that very point) is a leaf of no triangles. */
+LT_BVH8_TARGET __attribute__((always_inline)) static inline int
+lt_bvh8_box8_slabs(const lt_bvh8_ray *q, const lt_bvh8_node *n, float tmax, float t_entry[8], int widen) {
   const float *planes = n->lo_x;
   __m256 near_t = _mm256_set1_ps(-INFINITY), far_t = _mm256_set1_ps(INFINITY);
   for (int k = 0; k < 3; k++) {
@@ -149,7 +152,7 @@ LT_BVH8_TARGET static inline int lt_bvh8_box8(const lt_ray_setup *r, const lt_bv
     near_t = _mm256_max_ps(_mm256_min_ps(t0, t1), near_t);
     far_t = _mm256_min_ps(_mm256_max_ps(t1, t0), far_t);
   }
-  if (q->widen) {
+  if (widen) {
     __m256 magnitude = _mm256_and_ps(far_t, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
     far_t = _mm256_add_ps(far_t, _mm256_mul_ps(magnitude, _mm256_set1_ps(LT_SLAB_ROUNDING_EPS)));
   }
@@ -158,7 +161,16 @@ LT_BVH8_TARGET static inline int lt_bvh8_box8(const lt_ray_setup *r, const lt_bv
   near_t = _mm256_max_ps(near_t, q->tmin);
   far_t = _mm256_min_ps(far_t, _mm256_set1_ps(tmax));
   _mm256_storeu_ps(t_entry, near_t);
-  return _mm256_movemask_ps(_mm256_cmp_ps(near_t, far_t, _CMP_LE_OS)) & lt_bvh8_child_lanes(n);
+  return _mm256_movemask_ps(_mm256_cmp_ps(near_t, far_t, _CMP_LE_OS));
+}
+
+/* lt_bvh8_box8_slabs for the ray's kind: the common one (widened, no zero direction component)
+ * tested once a visit; a parallel ray takes the plain form, empty lanes masked. */
+LT_BVH8_TARGET static inline int lt_bvh8_box8(const lt_ray_setup *r, const lt_bvh8_ray *q, const lt_bvh8_node *n,
+                                              float tmax, float t_entry[8]) {
+  if (__builtin_expect(!q->unusual, 1)) return lt_bvh8_box8_slabs(q, n, tmax, t_entry, 1);
+  if (q->parallel) return lt_bvh8_box8_scalar(r, n, tmax, t_entry) & lt_bvh8_child_lanes(n);
+  return lt_bvh8_box8_slabs(q, n, tmax, t_entry, 0);
 }
 
 /* The one-triangle test of the ray's kind on triangle t. */

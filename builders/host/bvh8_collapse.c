@@ -59,13 +59,13 @@ static int collapse(collapser *c, int link, int depth, int *children) {
       if (c->out) lt_bvh8_write_child(&c->out->nodes[at], lane, &kids[lane].box, -2 - kids[lane].address, -1);
       continue;
     }
-    /* Empty lanes get empty boxes and count 0; a leaf's triangles go to the next slots. */
+    /* Empty lanes get the far point box and count 0; a leaf's triangles go to the next slots. */
     if (lane >= n || !lt__bvh_child_is_inner(&kids[lane])) {
       int slot = c->slots;
       if (lane < n) c->slots += (kids[lane].count + 3) / 4 * 4;
       if (!c->out) continue;
       if (lane >= n) {
-        lt_box empty = lt_box_empty();
+        lt_box empty = LT_BVH8_EMPTY_LANE_BOX;
         lt_bvh8_write_child(&c->out->nodes[at], lane, &empty, -1, 0);
         continue;
       }
