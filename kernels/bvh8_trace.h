@@ -27,7 +27,7 @@ LT_BVH8_TARGET __attribute__((noinline, unused)) static int lt_bvh8_trace_one(co
   lt_ray_setup r;
   lt_bvh8_ray_prepare(v->batch.rays + 8 * (long)i, v->batch.flags, &r);
   lt_hit_record hit;
-  int status = lt_bvh8_traverse_with(v->nodes, v->blocks, v->tris, &r, &hit, c, 1);
+  int status = lt_bvh8_traverse_with(v->nodes, v->blocks, v->tris, &r, &hit, c, LT_BVH8_VECTOR);
   lt_trace_batch_put(&v->batch, i, hit);
   return status;
 }

@@ -159,7 +159,7 @@ static void trace_host(int how, const lt__bvh8 *w8, const lt__qbvh *q, const lt_
     lt_hit_record hit;
     lt_i32 deepest = 0;
     int status = how == QBVH4 ? lt_qbvh_traverse(q->nodes, bvh->tris, &r, &hit, c, &deepest)
-                              : lt_bvh8_traverse_with(w8->nodes, w8->blocks, w8->tris, &r, &hit, c, how == WIDE_VECTOR);
+                              : lt_bvh8_traverse_with(w8->nodes, w8->blocks, w8->tris, &r, &hit, c, how == WIDE_VECTOR ? LT_BVH8_VECTOR : LT_BVH8_PLAIN);
     assert_int_equal(status, 0);
     if (hit.prim < 0) hit.t = INFINITY, hit.u = hit.v = 0.0f;
     hits[i] = (lt_hit){hit.t, hit.u, hit.v, hit.prim};
@@ -347,6 +347,13 @@ static size_t hard_rays(lt_hc_mesh *cube, lt_ray *rays, size_t max) {
   return n;
 }
 
+
+/* The four-triangle test as the traversal runs it (inlined into code of the 8-wide path's
+ * target only), in the common ray's form where the ray has no zero direction component. */
+LT_BVH8_TARGET static int tri4_test(const lt_ray_setup *r, const lt_bvh8_ray *q, const lt_tri4 *b, const lt_tri *t,
+                                    int any, lt_hit_record *hit) {
+  return lt_bvh8_tri4_watertight(r, q, b, t, 15, any, !r->parallel, hit);
+}
 /* The four-triangle watertight test, block by block, against the one-triangle test lane by
  * lane in index order on the hard cases: after every block the hit records are identical bit
  * for bit, for closest hits (each block starting from the best hit of the ones before) and
@@ -390,7 +397,7 @@ static void qbvh8_four_triangle_test_matches_the_one_triangle_test(void **state)
           lt_intersect_watertight(&r, v0, v1, v2, lt_float_as_int(t->v0.w), &one);
           one_stop = any && one.prim >= 0;
         }
-        int four_stop = lt_bvh8_tri4_watertight(&r, &q, &b[k], &padded[4 * k], 15, any, &four);
+        int four_stop = tri4_test(&r, &q, &b[k], &padded[4 * k], any, &four);
         assert_int_equal(four_stop, one_stop);
         assert_memory_equal(&one, &four, sizeof one);
       }

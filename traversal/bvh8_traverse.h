@@ -23,9 +23,10 @@
  * Traversal: at an inner child the ray meets its children's eight boxes; one entered goes on
  * at once, several go on the stack with their entry distances sorted so that the nearest is
  * on top and taken next. An any-hit query compares no distances (any hit ends it): the first
- * lane entered goes on, the others wait in lane order. Leaves
- * wait on the stack like inner children, so triangles are tested near to far too. A popped
- * child whose entry distance lies behind the best hit is dropped. */
+ * lane entered goes on, the others wait as one entry (the node and its lanes still to enter),
+ * read from the node only when their turn comes. Leaves wait on the stack like inner
+ * children, so triangles are tested near to far too. A popped child whose entry distance lies
+ * behind the best hit is dropped. */
 #ifndef LT_BVH8_TRAVERSE_H
 #define LT_BVH8_TRAVERSE_H
 
@@ -40,6 +41,14 @@
 
 #define LT_BVH8_TARGET __attribute__((target("avx2")))
 
+/* The traversal's forms (its `vector` argument): the plain per-lane box test and triangles one
+ * by one, which the tests compare with the others; the vector tests for any ray; and, chosen
+ * per ray inside lt_bvh8_traverse_from, the vector tests for the common ray (no zero direction
+ * component, widened slabs, the watertight test) with none of the others' checks in its loop. */
+#define LT_BVH8_PLAIN  0
+#define LT_BVH8_VECTOR 1
+#define LT_BVH8_COMMON 2
+
 /* A pending child: what its link says, and where the ray enters its box. Each visit pushes at
  * most seven (the eighth goes on at once) and the tree has at most LT_BVH_MAX_DEPTH (64)
  * levels, so 7 * 64 entries never overflow; the check stays and reports. */
@@ -48,6 +57,17 @@ typedef struct lt_bvh8_item {
   lt_i32 first, count;
   float t;
 } lt_bvh8_item;
+
+/* An any-hit query's pending children: a node and the lanes of it still to enter (bit i: lane
+ * i), the highest taken first. One entry a visit that enters two or more, and at most one a
+ * level of the path from the root (a lower entry is emptied before a higher one is read), so
+ * LT_BVH_MAX_DEPTH (64) levels never overflow 128; the check stays and reports. A child is read
+ * from its node only when its turn comes: a query that ends on a hit pays nothing for the rest. */
+#define LT_BVH8_PENDING_SIZE 128
+typedef struct lt_bvh8_pending {
+  lt_i32 node;
+  lt_u32 lanes;
+} lt_bvh8_pending;
 
 /* Whether this CPU runs the 8-wide path. */
 static inline int lt_bvh8_supported(void) {
@@ -59,10 +79,10 @@ static inline int lt_bvh8_supported(void) {
 typedef struct lt_bvh8_ray {
   __m256 org[3], inv[3], tmin;
   __m128 org_kx, org_ky, org_kz, sx4, sy4, sz4; /* origin on the shear's axes and shear, one lane per triangle */
-  int parallel;             /* some direction component is 0 (or -0): the plain form decides */
-  int widen;                /* conservative rounding (all but the accuracy report's plain slabs) */
-  int unusual;              /* parallel or not widen: one test a visit sends both off the common path */
-  int filter;               /* the watertight test: leaves are tested four triangles at a time */
+  int parallel;                                 /* some direction component is 0 (or -0): the plain form decides */
+  int widen;                                    /* conservative rounding (all but the accuracy report's plain slabs) */
+  int unusual; /* parallel or not widen: one test a visit sends both off the common path */
+  int filter;  /* the watertight test: leaves are tested four triangles at a time */
 } lt_bvh8_ray;
 
 LT_BVH8_TARGET static inline lt_bvh8_ray lt_bvh8_ray_make(const lt_ray_setup *r) {
@@ -141,16 +161,20 @@ static inline int lt_bvh8_box8_scalar(const lt_ray_setup *r, const lt_bvh8_node 
 /* The same eight tests as one AVX register per slab. Empty lanes are dropped by their box (a
  * far point, device/bvh8_node.h), not by a mask of the lanes in use: one entered all the same
  * (a ray through that very point) is a leaf of no triangles. */
-LT_BVH8_TARGET __attribute__((always_inline)) static inline int
-lt_bvh8_box8_slabs(const lt_bvh8_ray *q, const lt_bvh8_node *n, float tmax, float t_entry[8], int widen) {
+LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_box8_slabs(const lt_bvh8_ray *q,
+                                                                                   const lt_bvh8_node *n, float tmax,
+                                                                                   float t_entry[8], int widen) {
   const float *planes = n->lo_x;
-  __m256 near_t = _mm256_set1_ps(-INFINITY), far_t = _mm256_set1_ps(INFINITY);
+  __m256 near_t, far_t;
   for (int k = 0; k < 3; k++) {
-    /* Axis k of all eight boxes, met in the order lt_ray_slabs meets them. */
+    /* Axis k of all eight boxes, met in the order lt_ray_slabs meets them. lt_ray_slabs starts
+     * from [-inf, +inf]; here the first axis' interval is taken as it is, the same floats: the
+     * distances are never NaN (finite planes and origin, a finite non-zero 1/d: this form is not
+     * run for a ray with a zero direction component). */
     __m256 t0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(planes + 16 * k), q->org[k]), q->inv[k]);
     __m256 t1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(planes + 16 * k + 8), q->org[k]), q->inv[k]);
-    near_t = _mm256_max_ps(_mm256_min_ps(t0, t1), near_t);
-    far_t = _mm256_min_ps(_mm256_max_ps(t1, t0), far_t);
+    near_t = k ? _mm256_max_ps(_mm256_min_ps(t0, t1), near_t) : _mm256_min_ps(t0, t1);
+    far_t = k ? _mm256_min_ps(_mm256_max_ps(t1, t0), far_t) : _mm256_max_ps(t1, t0);
   }
   if (widen) {
     __m256 magnitude = _mm256_and_ps(far_t, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
@@ -179,6 +203,59 @@ LT_BVH8_TARGET static inline void lt_bvh8_triangle(const lt_ray_setup *r, const 
   lt_intersect_triangle(r, v0, v1, v2, lt_float_as_int(t->v0.w), hit);
 }
 
+#ifndef LT_HAVE_DOUBLE
+#error "the 8-wide path's finish computes the hit distance in double, as lt_hit_distance_checked does"
+#endif
+
+/* lt_watertight_finish for a ray with no zero direction component, on the triangle's vertices
+ * as vectors: the distance from the triangle's plane as four doubles at once, the clamp to the
+ * triangle's box as four floats at once. The same operations on the same values in the same
+ * order as lt_hit_distance_checked, lt_clamp_to_box and lt_ray_slabs' vector form (minps and
+ * maxps are their ternaries, the sums run in their order from 0), so the hit is theirs bit for
+ * bit; test_qbvh8 compares the two on every lane. In scalar form these steps were about a
+ * sixth of an AO ray's instructions (nearly every AO ray ends on a hit). */
+LT_BVH8_TARGET static inline int lt_bvh8_finish(const lt_ray_setup *r, const lt_tri *tri, float u, float v, float w,
+                                                float t_scaled, lt_hit_record *hit) {
+  float det = u + v + w;
+  if (det == 0.0f) return 0;
+  float inv_det = 1.0f / det, t = t_scaled * inv_det;
+  __m128 a = _mm_loadu_ps(&tri->v0.x), b = _mm_loadu_ps(&tri->v1.x), c = _mm_loadu_ps(&tri->v2.x);
+
+  /* The plane's normal, the edges' cross product (none: no area, never hit), and the distance. */
+  __m256d a_d = _mm256_cvtps_pd(a), e1 = _mm256_sub_pd(_mm256_cvtps_pd(b), a_d),
+          e2 = _mm256_sub_pd(_mm256_cvtps_pd(c), a_d);
+  __m256d n = _mm256_sub_pd(_mm256_mul_pd(_mm256_permute4x64_pd(e1, _MM_SHUFFLE(3, 0, 2, 1)),
+                                          _mm256_permute4x64_pd(e2, _MM_SHUFFLE(3, 1, 0, 2))),
+                            _mm256_mul_pd(_mm256_permute4x64_pd(e1, _MM_SHUFFLE(3, 1, 0, 2)),
+                                          _mm256_permute4x64_pd(e2, _MM_SHUFFLE(3, 0, 2, 1))));
+  if ((_mm256_movemask_pd(_mm256_cmp_pd(n, _mm256_setzero_pd(), _CMP_EQ_OQ)) & 7) == 7) return 0;
+  __m256d to_plane = _mm256_mul_pd(n, _mm256_sub_pd(a_d, _mm256_cvtps_pd((__m128)r->org4)));
+  __m256d along = _mm256_mul_pd(n, _mm256_cvtps_pd(_mm_setr_ps(r->dir[0], r->dir[1], r->dir[2], 0.0f)));
+  double p[4], d[4];
+  _mm256_storeu_pd(p, to_plane), _mm256_storeu_pd(d, along);
+  double num = 0.0 + p[0], den = 0.0 + d[0];
+  num += p[1], den += d[1];
+  num += p[2], den += d[2];
+  double plane = num / den;
+  if (den != 0.0 && plane == plane && plane < 3.0e38 && plane > -3.0e38) t = (float)plane;
+
+  /* Into the stretch of the ray inside the triangle's box (lt_clamp_to_box). */
+  __m128 lo = _mm_min_ps(c, _mm_min_ps(a, b)), hi = _mm_max_ps(c, _mm_max_ps(a, b));
+  __m128 org = (__m128)r->org4, inv = (__m128)r->inv4;
+  __m128 t0 = _mm_mul_ps(_mm_sub_ps(lo, org), inv), t1 = _mm_mul_ps(_mm_sub_ps(hi, org), inv);
+  __m128 t_lo = _mm_min_ps(t0, t1), t_hi = _mm_max_ps(t1, t0);
+  float near_t = _mm_cvtss_f32(t_lo), far_t = _mm_cvtss_f32(t_hi);
+  near_t = near_t > -INFINITY ? near_t : -INFINITY, far_t = far_t < INFINITY ? far_t : INFINITY;
+  for (int k = 1; k < 3; k++) {
+    float l = _mm_cvtss_f32(_mm_shuffle_ps(t_lo, t_lo, k)), h = _mm_cvtss_f32(_mm_shuffle_ps(t_hi, t_hi, k));
+    near_t = l > near_t ? l : near_t;
+    far_t = h < far_t ? h : far_t;
+  }
+  far_t += lt_fabsf(far_t) * LT_SLAB_ROUNDING_EPS;
+  t = !(near_t <= far_t) ? NAN : t < near_t ? near_t : t > far_t ? far_t : t;
+  return lt_record_hit(r, t, v * inv_det, w * inv_det, lt_float_as_int(tri->v0.w), hit);
+}
+
 /* The watertight test of a block's four triangles (the lanes in `lanes`), in index order:
  * lt_intersect_watertight's steps up to the scaled distance as one SSE vector each, with the
  * same operations in the same order, so that every lane holds the very floats that test
@@ -187,8 +264,9 @@ LT_BVH8_TARGET static inline void lt_bvh8_triangle(const lt_ray_setup *r, const 
  * them exactly 0 (which that test recomputes in double) takes the one-triangle test; the
  * others are the test's candidates and go through its last steps (lt_watertight_finish) with
  * the lane's floats. Returns 1 when an any-hit query found its hit (the rest is not tested). */
-LT_BVH8_TARGET static inline int lt_bvh8_tri4_watertight(const lt_ray_setup *r, const lt_bvh8_ray *q, const lt_tri4 *b,
-                                                         const lt_tri *t, int lanes, int any_hit, lt_hit_record *hit) {
+LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_tri4_watertight(
+    const lt_ray_setup *r, const lt_bvh8_ray *q, const lt_tri4 *b, const lt_tri *t, int lanes, int any_hit, int common,
+    lt_hit_record *hit) {
   /* Vertices relative to the origin, sheared and scaled into ray space (rows picked by the
    * ray's axes, the origin's components in the same order). */
   int kx = r->kx, ky = r->ky, kz = r->kz;
@@ -224,6 +302,8 @@ LT_BVH8_TARGET static inline int lt_bvh8_tri4_watertight(const lt_ray_setup *r, 
     const lt_tri *tri = &t[lane];
     if (zeros >> lane & 1) {
       lt_bvh8_triangle(r, tri, hit);
+    } else if (common || !r->parallel) {
+      lt_bvh8_finish(r, tri, uu[lane], vv[lane], ww[lane], ts[lane], hit);
     } else {
       float v0[3] = {tri->v0.x, tri->v0.y, tri->v0.z}, v1[3] = {tri->v1.x, tri->v1.y, tri->v1.z};
       float v2[3] = {tri->v2.x, tri->v2.y, tri->v2.z};
@@ -235,13 +315,15 @@ LT_BVH8_TARGET static inline int lt_bvh8_tri4_watertight(const lt_ray_setup *r, 
 }
 
 /* A leaf's `count` triangles from position `first`, in index order: blocks of four through
- * the vector test (`vector` and the watertight test), else one by one. Returns 1 when an
+ * the vector test (a vector form and the watertight test), else one by one. Returns 1 when an
  * any-hit query found its hit; the rest of the leaf is then not tested, either way. */
-LT_BVH8_TARGET static inline int lt_bvh8_leaf(const lt_ray_setup *r, const lt_bvh8_ray *q, const lt_tri4 *blocks,
-                                              const lt_tri *tris, lt_i32 first, lt_i32 count, int vector, int any_hit,
-                                              lt_hit_record *hit) {
+LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_leaf(const lt_ray_setup *r,
+                                                                             const lt_bvh8_ray *q,
+                                                                             const lt_tri4 *blocks, const lt_tri *tris,
+                                                                             lt_i32 first, lt_i32 count, int vector,
+                                                                             int any_hit, lt_hit_record *hit) {
   const lt_tri *t = &tris[first];
-  if (!vector || !q->filter) {
+  if (vector != LT_BVH8_COMMON && (vector == LT_BVH8_PLAIN || !q->filter)) {
     for (lt_i32 k = 0; k < count; k++) {
       lt_bvh8_triangle(r, &t[k], hit);
       if (any_hit && hit->prim >= 0) return 1;
@@ -250,7 +332,8 @@ LT_BVH8_TARGET static inline int lt_bvh8_leaf(const lt_ray_setup *r, const lt_bv
   }
   const lt_tri4 *b = &blocks[first >> 2];
   for (lt_i32 left = count; left > 0; left -= 4, b++, t += 4)
-    if (lt_bvh8_tri4_watertight(r, q, b, t, left < 4 ? (1 << left) - 1 : 15, any_hit, hit)) return 1;
+    if (lt_bvh8_tri4_watertight(r, q, b, t, left < 4 ? (1 << left) - 1 : 15, any_hit, vector == LT_BVH8_COMMON, hit))
+      return 1;
   return 0;
 }
 
@@ -260,15 +343,16 @@ LT_BVH8_TARGET static inline int lt_bvh8_exit_lanes(const lt_bvh8_node *n) {
   return _mm256_movemask_ps(_mm256_and_ps(first, count)) & 0xff;
 }
 
-/* lt_bvh8_traverse_from for one kind of query, any_hit a constant where it is inlined. */
-LT_BVH8_TARGET __attribute__((always_inline)) static inline int
-lt_bvh8_traverse_query(const lt_bvh8_node *nodes, const lt_tri4 *blocks, const lt_tri *tris, const lt_ray_setup *r,
-                       lt_i32 root, lt_hit_record *io, lt_trace_counters *c, int vector, lt_bvh8_item *exits,
-                       int max_exits, int *exit_count, int any_hit) {
+/* lt_bvh8_traverse_from for one kind of query and one form, both constants where it is inlined. */
+LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_traverse_query(
+    const lt_bvh8_node *nodes, const lt_tri4 *blocks, const lt_tri *tris, const lt_ray_setup *r, lt_i32 root,
+    lt_hit_record *io, lt_trace_counters *c, int vector, lt_bvh8_item *exits, int max_exits, int *exit_count,
+    int any_hit) {
   lt_hit_record hit = *io;
   int status = 0;
   lt_bvh8_ray q = lt_bvh8_ray_make(r);
-  lt_bvh8_item stack[LT_BVH8_STACK_SIZE];
+  lt_bvh8_item stack[LT_BVH8_STACK_SIZE];        /* closest hits */
+  lt_bvh8_pending pending[LT_BVH8_PENDING_SIZE]; /* any hit */
   int sp = 0;
   lt_u32 steps = 0, tests = 0;     /* counted here, added once: c may alias the stack for the compiler */
   lt_i32 first = root, count = -1; /* the root's children */
@@ -278,8 +362,9 @@ lt_bvh8_traverse_query(const lt_bvh8_node *nodes, const lt_tri4 *blocks, const l
       steps++;
       const lt_bvh8_node *n = &nodes[first];
       float t[8];
-      int mask =
-          vector ? lt_bvh8_box8(r, &q, n, hit.t, t) : lt_bvh8_box8_scalar(r, n, hit.t, t) & lt_bvh8_child_lanes(n);
+      int mask = vector == LT_BVH8_COMMON ? lt_bvh8_box8_slabs(&q, n, hit.t, t, 1)
+                 : vector                 ? lt_bvh8_box8(r, &q, n, hit.t, t)
+                                          : lt_bvh8_box8_scalar(r, n, hit.t, t) & lt_bvh8_child_lanes(n);
       /* Exits entered are the binary traversal's to take (trees still being built only). */
       int out = exits ? mask & lt_bvh8_exit_lanes(n) : 0;
       if (out) {
@@ -306,18 +391,14 @@ lt_bvh8_traverse_query(const lt_bvh8_node *nodes, const lt_tri4 *blocks, const l
         }
 
         /* Any hit: no order to keep, as Embree's occlusion traversal: the first entered on at
-         * once, the others on the stack in lane order, without their entry distances (read only
+         * once, the others pending (highest lane first), without their entry distances (read only
          * to order and cull, which an any-hit query does not do). */
         if (any_hit) {
-          if (sp + LT_BVH8_WIDTH > LT_BVH8_STACK_SIZE) {
+          if (sp == LT_BVH8_PENDING_SIZE) {
             status = -1;
             break;
           }
-          do {
-            int other = __builtin_ctz((unsigned)mask);
-            mask &= mask - 1;
-            stack[sp].first = n->first[other], stack[sp].count = n->count[other], sp++;
-          } while (mask);
+          pending[sp].node = first, pending[sp].lanes = (lt_u32)mask, sp++;
           first = n->first[lane], count = n->count[lane];
           continue;
         }
@@ -362,7 +443,17 @@ lt_bvh8_traverse_query(const lt_bvh8_node *nodes, const lt_tri4 *blocks, const l
 
     /* The nearest pending child the best hit does not rule out (ties are kept: a triangle at
      * the same distance with a lower number still wins). An any-hit query has none yet. */
-    while (!any_hit && sp > 0 && stack[sp - 1].t > hit.t) sp--;
+    if (any_hit) {
+      if (sp == 0) break;
+      lt_bvh8_pending *p = &pending[sp - 1];
+      int lane = 31 - __builtin_clz(p->lanes);
+      const lt_bvh8_node *from = &nodes[p->node];
+      p->lanes &= ~(1u << lane);
+      sp -= p->lanes == 0;
+      first = from->first[lane], count = from->count[lane];
+      continue;
+    }
+    while (sp > 0 && stack[sp - 1].t > hit.t) sp--;
     if (sp == 0) break;
     sp--;
     first = stack[sp].first, count = stack[sp].count;
@@ -375,20 +466,37 @@ lt_bvh8_traverse_query(const lt_bvh8_node *nodes, const lt_tri4 *blocks, const l
 /* Traces one ray prepared with lt_ray_prepare (its flags set) through the 8-wide subtree whose
  * root's children are the lanes of node `root`, from the best hit so far in *io (prim -1 and
  * t = tmax when none), which it updates. Returns 0, or -1 when the stack would overflow (never
- * on a tree of LT_BVH_MAX_DEPTH levels). `vector` 0 takes the plain box test and tests every
- * triangle one by one (the tests compare both). The on-demand traversal enters the wide
+ * on a tree of LT_BVH_MAX_DEPTH levels). `vector` is LT_BVH8_VECTOR, or LT_BVH8_PLAIN for
+ * the plain box test and every triangle one by one (the tests compare both). The on-demand traversal enters the wide
  * tree of its tree's built part here (kernels/native_bvh_wide.c): exit lanes the ray enters
  * go to exits[] (at most max_exits, *exit_count of them; 1 is returned when more would), with
  * their entry distances, for the binary traversal; exits NULL: the tree has none. The
- * traversal is made twice, once for any-hit queries and once for closest hits, so that
- * neither tests the kind of query in its loop. */
-LT_BVH8_TARGET __attribute__((always_inline)) static inline int
-lt_bvh8_traverse_from(const lt_bvh8_node *nodes, const lt_tri4 *blocks, const lt_tri *tris, const lt_ray_setup *r,
-                      lt_i32 root, lt_hit_record *io, lt_trace_counters *c, int vector, lt_bvh8_item *exits,
-                      int max_exits, int *exit_count) {
-  if (r->flags & LT_QUERY_FLAG_ANY)
-    return lt_bvh8_traverse_query(nodes, blocks, tris, r, root, io, c, vector, exits, max_exits, exit_count, 1);
-  return lt_bvh8_traverse_query(nodes, blocks, tris, r, root, io, c, vector, exits, max_exits, exit_count, 0);
+ * common ray's traversal is made twice, once for any-hit queries and once for closest hits, so
+ * that neither tests the kind of query or of ray in its loop; the other rays share one out of
+ * line. */
+#define LT_BVH8_TRAVERSE_PARAMS                                                                             \
+  const lt_bvh8_node *nodes, const lt_tri4 *blocks, const lt_tri *tris, const lt_ray_setup *r, lt_i32 root, \
+      lt_hit_record *io, lt_trace_counters *c, int vector, lt_bvh8_item *exits, int max_exits, int *exit_count
+#define LT_BVH8_TRAVERSE_ARGS nodes, blocks, tris, r, root, io, c, vector, exits, max_exits, exit_count
+
+/* Three functions, each compiled (and its registers allocated) for one loop. */
+LT_BVH8_TARGET __attribute__((noinline, unused)) static int lt_bvh8_traverse_rare(LT_BVH8_TRAVERSE_PARAMS) {
+  return lt_bvh8_traverse_query(LT_BVH8_TRAVERSE_ARGS, (r->flags & LT_QUERY_FLAG_ANY) != 0);
+}
+LT_BVH8_TARGET __attribute__((noinline, unused)) static int lt_bvh8_traverse_any(LT_BVH8_TRAVERSE_PARAMS) {
+  (void)vector;
+  return lt_bvh8_traverse_query(nodes, blocks, tris, r, root, io, c, LT_BVH8_COMMON, exits, max_exits, exit_count, 1);
+}
+LT_BVH8_TARGET __attribute__((noinline, unused)) static int lt_bvh8_traverse_closest(LT_BVH8_TRAVERSE_PARAMS) {
+  (void)vector;
+  return lt_bvh8_traverse_query(nodes, blocks, tris, r, root, io, c, LT_BVH8_COMMON, exits, max_exits, exit_count, 0);
+}
+
+LT_BVH8_TARGET static inline int lt_bvh8_traverse_from(LT_BVH8_TRAVERSE_PARAMS) {
+  int other = LT_QUERY_FLAG_PLAIN_SLABS | LT_QUERY_FLAG_FAST_TRIANGLES;
+  if (vector == LT_BVH8_PLAIN || r->parallel || (r->flags & other)) return lt_bvh8_traverse_rare(LT_BVH8_TRAVERSE_ARGS);
+  if (r->flags & LT_QUERY_FLAG_ANY) return lt_bvh8_traverse_any(LT_BVH8_TRAVERSE_ARGS);
+  return lt_bvh8_traverse_closest(LT_BVH8_TRAVERSE_ARGS);
 }
 
 /* Traces one ray through a whole finished 8-wide tree (node 0 holds the root's children);
