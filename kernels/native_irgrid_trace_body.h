@@ -14,7 +14,7 @@
 
 void LT_IRG_TRACE_NAME(void *arg);
 #define LT_TRACE_NATIVE LT_IRG_TRACE_NAME
-#define LT_TRACE_VIEW lt_irg_trace_view
-#define LT_TRACE_ONE lt_irg_trace_one
+#define LT_TRACE_VIEW   lt_irg_trace_view
+#define LT_TRACE_ONE    lt_irg_trace_one
 #include "kernels/trace_kernel_body.h"
 #undef LT_IRG_TRACE_NAME

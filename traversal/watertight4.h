@@ -53,7 +53,8 @@ static inline int lt_watertight4(const lt_ray_setup *r, const lt_watertight4_ray
     _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
     v[4] = r0, v[5] = r1, v[6] = r2, v[7] = r3;
     /* The last float of each: lane 3 of the loads at t + 5. */
-    __m128 a = _mm_loadu_ps(t[0] + 5), b = _mm_loadu_ps(t[1] + 5), c = _mm_loadu_ps(t[2] + 5), d = _mm_loadu_ps(t[3] + 5);
+    __m128 a = _mm_loadu_ps(t[0] + 5), b = _mm_loadu_ps(t[1] + 5), c = _mm_loadu_ps(t[2] + 5),
+           d = _mm_loadu_ps(t[3] + 5);
     __m128 ab = _mm_unpackhi_ps(a, b), cd = _mm_unpackhi_ps(c, d); /* (a2 b2 a3 b3), (c2 d2 c3 d3) */
     v[8] = _mm_movehl_ps(cd, ab);                                  /* (a3 b3 c3 d3) */
   }
