@@ -30,6 +30,14 @@ void lt__native_irgrid_ondemand_kernel(void *arg);
 void lt__native_irgrid_merge_kernel(void *arg);
 /* kernels/native_irgrid_trace.c: arg is an lt__native_trace_launch over an lt_irg_trace_view. */
 void lt__native_irgrid_trace_kernel(void *arg);
+/* Kernels also compiled for AVX2 and BMI2 and chosen at run time (x86-64 with GCC or clang):
+ * kernels/native_irgrid_trace_avx2.c. */
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define LT_NATIVE_AVX2_CLONES 1
+void lt__native_irgrid_trace_avx2(void *arg);
+#else
+#define LT_NATIVE_AVX2_CLONES 0
+#endif
 /* kernels/native_qbvh_trace.c: arg is an lt__native_trace_launch over an lt_qbvh_trace_view. */
 void lt__native_qbvh_trace_kernel(void *arg);
 /* kernels/native_bvh8_trace.c (x86 with AVX2 only): arg is an lt__native_trace_launch over an

@@ -54,6 +54,12 @@
 #include "device/pool.h"
 #include "traversal/grid_traverse.h"
 
+/* A native kernel that includes traversal/watertight4.h first and defines this to 1 tests a
+ * cell's triangles four at a time (x86 with SSE2); OpenCL tests them one by one. */
+#ifndef LT_IRG_WATERTIGHT4
+#define LT_IRG_WATERTIGHT4 0
+#endif
+
 /* Cells a ray remembers having tested (a power of two). */
 #define LT_IRG_RECENT 4
 
@@ -137,6 +143,18 @@ LT_DEVICE int lt_irg_test_cell(const lt_irg_view *v, lt_irg_ray *q, lt_i32 cell,
   q->recent_next = (q->recent_next + 1) & (LT_IRG_RECENT - 1);
   c->traversal_steps++;
   LT_GLOBAL const lt_irg_cell *p = &v->cells[cell];
+#if LT_IRG_WATERTIGHT4
+  /* Natively, a cell of two or more triangles takes them four at a time (the same hits). */
+  if (p->end - p->begin >= 2 && !(q->r.flags & LT_QUERY_FLAG_FAST_TRIANGLES)) {
+    lt_watertight4_ray q4 = lt_watertight4_prepare(&q->r);
+    for (lt_i32 i = p->begin; i < p->end; i += 4) {
+      int n = p->end - i < 4 ? p->end - i : 4;
+      c->intersections += n;
+      if (lt_watertight4(&q->r, &q4, v->verts, v->refs + i, n, any_hit, &q->hit)) return 1;
+    }
+    return 0;
+  }
+#endif
   for (lt_i32 i = p->begin; i < p->end; i++) {
     lt_i32 prim = v->refs[i];
     LT_GLOBAL const float *t = v->verts + 9 * (long)prim;
