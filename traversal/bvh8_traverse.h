@@ -38,6 +38,7 @@
 
 #include "device/bvh8_node.h"
 #include "traversal/ray_box.h"
+#include "traversal/watertight4.h"
 
 #define LT_BVH8_TARGET __attribute__((target("avx2")))
 
@@ -78,19 +79,18 @@ static inline int lt_bvh8_supported(void) {
 /* The ray's origin, reciprocal direction and tmin, one lane per box, made once per ray. */
 typedef struct lt_bvh8_ray {
   __m256 org[3], inv[3], tmin;
-  __m128 org_kx, org_ky, org_kz, sx4, sy4, sz4; /* origin on the shear's axes and shear, one lane per triangle */
-  int parallel;                                 /* some direction component is 0 (or -0): the plain form decides */
-  int widen;                                    /* conservative rounding (all but the accuracy report's plain slabs) */
-  int unusual; /* parallel or not widen: one test a visit sends both off the common path */
-  int filter;  /* the watertight test: leaves are tested four triangles at a time */
+  lt_watertight4_ray tri; /* for the leaves' four-triangle test */
+  int parallel;           /* some direction component is 0 (or -0): the plain form decides */
+  int widen;              /* conservative rounding (all but the accuracy report's plain slabs) */
+  int unusual;            /* parallel or not widen: one test a visit sends both off the common path */
+  int filter;             /* the watertight test: leaves are tested four triangles at a time */
 } lt_bvh8_ray;
 
 LT_BVH8_TARGET static inline lt_bvh8_ray lt_bvh8_ray_make(const lt_ray_setup *r) {
   lt_bvh8_ray q;
   for (int k = 0; k < 3; k++) q.org[k] = _mm256_set1_ps(r->org[k]), q.inv[k] = _mm256_set1_ps(r->inv_dir[k]);
   q.tmin = _mm256_set1_ps(r->tmin);
-  q.org_kx = _mm_set1_ps(r->org[r->kx]), q.org_ky = _mm_set1_ps(r->org[r->ky]), q.org_kz = _mm_set1_ps(r->org[r->kz]);
-  q.sx4 = _mm_set1_ps(r->sx), q.sy4 = _mm_set1_ps(r->sy), q.sz4 = _mm_set1_ps(r->sz);
+  q.tri = lt_watertight4_prepare(r);
   q.filter = !(r->flags & LT_QUERY_FLAG_FAST_TRIANGLES);
   q.parallel = r->parallel;
   q.widen = !(r->flags & LT_QUERY_FLAG_PLAIN_SLABS);
@@ -271,47 +271,20 @@ LT_BVH8_TARGET static inline int lt_bvh8_finish(const lt_ray_setup *r, const lt_
 LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_tri4_watertight(
     const lt_ray_setup *r, const lt_bvh8_ray *q, const lt_tri4 *b, const lt_tri *t, int lanes, int any_hit, int common,
     lt_hit_record *hit) {
-  /* Vertices relative to the origin, sheared and scaled into ray space (rows picked by the
-   * ray's axes, the origin's components in the same order). */
-  int kx = r->kx, ky = r->ky, kz = r->kz;
-  __m128 az = _mm_sub_ps(_mm_load_ps(b->v[kz]), q->org_kz), bz = _mm_sub_ps(_mm_load_ps(b->v[3 + kz]), q->org_kz);
-  __m128 cz = _mm_sub_ps(_mm_load_ps(b->v[6 + kz]), q->org_kz);
-  __m128 ax = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(b->v[kx]), q->org_kx), _mm_mul_ps(q->sx4, az));
-  __m128 ay = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(b->v[ky]), q->org_ky), _mm_mul_ps(q->sy4, az));
-  __m128 bx = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(b->v[3 + kx]), q->org_kx), _mm_mul_ps(q->sx4, bz));
-  __m128 by = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(b->v[3 + ky]), q->org_ky), _mm_mul_ps(q->sy4, bz));
-  __m128 cx = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(b->v[6 + kx]), q->org_kx), _mm_mul_ps(q->sx4, cz));
-  __m128 cy = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(b->v[6 + ky]), q->org_ky), _mm_mul_ps(q->sy4, cz));
-
-  /* The edge functions; the lanes the test rejects (none zero, signs mixed) and those it
-   * recomputes in double (one zero). */
-  __m128 u = _mm_sub_ps(_mm_mul_ps(cx, by), _mm_mul_ps(cy, bx));
-  __m128 v = _mm_sub_ps(_mm_mul_ps(ax, cy), _mm_mul_ps(ay, cx));
-  __m128 w = _mm_sub_ps(_mm_mul_ps(bx, ay), _mm_mul_ps(by, ax));
-  __m128 zero = _mm_setzero_ps();
-  __m128 any_zero = _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(u, zero), _mm_cmpeq_ps(v, zero)), _mm_cmpeq_ps(w, zero));
-  __m128 any_neg = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(u, zero), _mm_cmplt_ps(v, zero)), _mm_cmplt_ps(w, zero));
-  __m128 any_pos = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(u, zero), _mm_cmpgt_ps(v, zero)), _mm_cmpgt_ps(w, zero));
-  int zeros = _mm_movemask_ps(any_zero) & lanes;
-  int open = ~_mm_movemask_ps(_mm_or_ps(any_zero, _mm_and_ps(any_neg, any_pos))) & lanes;
-  if (!(zeros | open)) return 0;
-
-  /* The scaled distance of the candidates, then each lane in index order. */
-  __m128 t_scaled = _mm_add_ps(_mm_add_ps(_mm_mul_ps(u, _mm_mul_ps(q->sz4, az)), _mm_mul_ps(v, _mm_mul_ps(q->sz4, bz))),
-                               _mm_mul_ps(w, _mm_mul_ps(q->sz4, cz)));
-  float uu[4], vv[4], ww[4], ts[4];
-  _mm_storeu_ps(uu, u), _mm_storeu_ps(vv, v), _mm_storeu_ps(ww, w), _mm_storeu_ps(ts, t_scaled);
-  for (int todo = zeros | open; todo; todo &= todo - 1) {
+  lt_watertight4_lanes l;
+  int todo = lt_watertight4_steps(r, &q->tri, (const __m128 *)b->v, lanes, &l);
+  for (; todo; todo &= todo - 1) {
     int lane = __builtin_ctz((unsigned)todo);
     const lt_tri *tri = &t[lane];
-    if (zeros >> lane & 1) {
+    if (l.zeros >> lane & 1) {
       lt_bvh8_triangle(r, tri, hit);
     } else if (common || !r->parallel) {
-      lt_bvh8_finish(r, tri, uu[lane], vv[lane], ww[lane], ts[lane], hit);
+      lt_bvh8_finish(r, tri, l.u[lane], l.v[lane], l.w[lane], l.t_scaled[lane], hit);
     } else {
       float v0[3] = {tri->v0.x, tri->v0.y, tri->v0.z}, v1[3] = {tri->v1.x, tri->v1.y, tri->v1.z};
       float v2[3] = {tri->v2.x, tri->v2.y, tri->v2.z};
-      lt_watertight_finish(r, v0, v1, v2, uu[lane], vv[lane], ww[lane], ts[lane], lt_float_as_int(tri->v0.w), hit);
+      lt_watertight_finish(r, v0, v1, v2, l.u[lane], l.v[lane], l.w[lane], l.t_scaled[lane], lt_float_as_int(tri->v0.w),
+                           hit);
     }
     if (any_hit && hit->prim >= 0) return 1;
   }
