@@ -14,7 +14,7 @@ scene=${1:-sphere:5} size=${2:-128} dir=${3:-build}
 out=${KEEP:-$(mktemp -d)}
 mkdir -p "$out"
 valgrind --tool=callgrind --callgrind-out-file="$out/cg.out" --dump-instr=yes \
-  --toggle-collect=lt_bvh8_trace_one --toggle-collect=rtcIntersect1 --toggle-collect=rtcOccluded1 \
+  --toggle-collect=lt_bvh8_trace_any --toggle-collect=lt_bvh8_trace_closest --toggle-collect=lt_bvh8_trace_other --toggle-collect=rtcIntersect1 --toggle-collect=rtcOccluded1 \
   --dump-after=lt_structure_trace --dump-after=lt_embree_trace \
   "$dir/benchmarks/bench_wide_simd" "$scene" --size "$size" --runs 1 --ao 2 >"$out/bench.md" 2>"$out/valgrind.log"
 ao=$(sed -n 's/.*primary rays, \([0-9]*\) AO rays.*/\1/p' "$out/bench.md")

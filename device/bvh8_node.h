@@ -42,13 +42,15 @@ typedef struct lt_bvh8_node {
   lt_i32 count[8]; /* 32 bytes: per child, -children (inner), triangles (leaf), 0 (empty) */
 } lt_bvh8_node;
 
-/* Four triangles of a leaf, SoA: v[3 * j + k] is coordinate k of vertex j, lane i triangle i. */
+/* Four triangles of a leaf, SoA: v[3 * j + k] is coordinate k of vertex j, lane i triangle i,
+ * and the four triangles' numbers, so that a hit is finished from the block alone. */
 typedef struct lt_tri4 {
-  float v[9][4]; /* 144 bytes: v0.x v0.y v0.z v1.x v1.y v1.z v2.x v2.y v2.z, four lanes each */
+  float v[9][4];  /* 144 bytes: v0.x v0.y v0.z v1.x v1.y v1.z v2.x v2.y v2.z, four lanes each */
+  lt_i32 prim[4]; /* 16 bytes: the triangles' numbers */
 } lt_tri4;
 
 #ifndef __OPENCL_VERSION__
-_Static_assert(sizeof(lt_tri4) == 144, "lt_tri4 is 144 bytes");
+_Static_assert(sizeof(lt_tri4) == 160, "lt_tri4 is 160 bytes");
 _Static_assert(sizeof(lt_bvh8_node) == 256, "lt_bvh8_node is four 64-byte lines");
 #endif
 

@@ -6,6 +6,9 @@
  *   #define LT_TRACE_ARGS(X)     its kernel arguments (device/kernel_args.h)
  *   #define LT_TRACE_ONE(v, i, c) traces ray i of the batch and writes its hit; 0, or -1 when
  *                                the traversal would overflow its stack
+ *   or, native only,
+ *   #define LT_TRACE_RANGE(v, begin, end, c)  the same for rays [begin, end) (0, or nonzero
+ *                                when some traversal would overflow): one call a chunk
  *
  * OpenCL runs one work-item per ray; the native backend runs one thread per work-group, each
  * taking chunks of rays from a shared counter until none are left. No include guard. */
@@ -37,8 +40,13 @@ void LT_TRACE_NATIVE(void *arg) {
     lt_u32 begin = lt_atomic_add_u32(&launch->next_ray, CHUNK);
     if (begin >= count) break;
     lt_u32 end = begin + CHUNK < count ? begin + CHUNK : count;
+#ifdef LT_TRACE_RANGE
+    if (LT_TRACE_RANGE(view, (lt_i32)begin, (lt_i32)end, &counters) != 0)
+      __atomic_store_n(&launch->error, 1, __ATOMIC_RELAXED);
+#else
     for (lt_u32 i = begin; i < end; i++)
       if (LT_TRACE_ONE(view, (lt_i32)i, &counters) != 0) __atomic_store_n(&launch->error, 1, __ATOMIC_RELAXED);
+#endif
 
     /* Fold the 32-bit counters into 64-bit ones after every chunk. */
     steps += counters.traversal_steps, tests += counters.intersections;
@@ -54,3 +62,4 @@ void LT_TRACE_NATIVE(void *arg) {
 #undef LT_TRACE_VIEW
 #undef LT_TRACE_ARGS
 #undef LT_TRACE_ONE
+#undef LT_TRACE_RANGE

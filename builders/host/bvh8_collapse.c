@@ -41,6 +41,7 @@ static void write_leaf(const collapser *c, int first, int count, int at) {
     const lt_float4 *v[3] = {&t.v0, &t.v1, &t.v2};
     for (int j = 0; j < 3; j++)
       b->v[3 * j][i % 4] = v[j]->x, b->v[3 * j + 1][i % 4] = v[j]->y, b->v[3 * j + 2][i % 4] = v[j]->z;
+    b->prim[i % 4] = lt_float_as_int(t.v0.w);
   }
 }
 
