@@ -107,32 +107,35 @@ LT_BVH8_TARGET static inline void lt_bvh8_ray_prepare(const float *ray, int flag
   __m128 o = _mm_loadu_ps(ray), d = _mm_loadu_ps(ray + 4); /* ox oy oz tmin, dx dy dz tmax */
   __m128 magnitude = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)), zero = _mm_setzero_ps();
   __m128 xyz = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0)), inf = _mm_set1_ps(INFINITY);
-  int finite_o = _mm_movemask_ps(_mm_cmplt_ps(_mm_and_ps(o, magnitude), inf));
-  int finite_d = _mm_movemask_ps(_mm_cmplt_ps(_mm_and_ps(d, magnitude), inf));
-  int nonzero_d = _mm_movemask_ps(_mm_cmpneq_ps(d, zero)) & 7, zero_d = _mm_movemask_ps(_mm_cmpeq_ps(d, zero)) & 7;
-  float tmin = ray[3], tmax = ray[7];
-  r->valid = finite_o == 15 && (finite_d & 7) == 7 && tmax == tmax && tmin <= tmax && nonzero_d;
-  r->tmin = tmin, r->tmax = tmax, r->flags = flags;
+  __m128 d_abs = _mm_and_ps(d, magnitude);
+
+  /* Valid: origin and tmin finite, direction finite, tmin <= tmax (false for a NaN tmax; lane
+   * 3 of o is tmin, of d tmax), some direction component not 0. A component is either == 0 or
+   * != 0 (a NaN is != 0), so the zero ones are the complement of the others. */
+  __m128 ok = _mm_and_ps(_mm_cmplt_ps(_mm_and_ps(o, magnitude), inf),
+                         _mm_blend_ps(_mm_cmplt_ps(d_abs, inf), _mm_cmple_ps(o, d), 8));
+  __m128 nonzero = _mm_cmpneq_ps(d, zero);
+  int nonzero_d = _mm_movemask_ps(nonzero) & 7;
+  r->valid = _mm_movemask_ps(ok) == 15 && nonzero_d;
+  r->tmin = ray[3], r->tmax = ray[7], r->flags = flags;
 
   /* 1/d, 0 where d is 0 (either sign), clamped to the largest float; a NaN stays NaN. */
   __m128 inv = _mm_div_ps(_mm_set1_ps(1.0f), d);
   inv = _mm_min_ps(_mm_set1_ps(LT_FLOAT_MAX), _mm_max_ps(_mm_set1_ps(-LT_FLOAT_MAX), inv));
-  inv = _mm_and_ps(inv, _mm_and_ps(_mm_cmpneq_ps(d, zero), xyz));
+  inv = _mm_and_ps(inv, _mm_and_ps(nonzero, xyz));
   r->org4 = (lt_v4)_mm_and_ps(o, xyz), r->inv4 = (lt_v4)inv;
   for (int k = 0; k < 3; k++) r->org[k] = ray[k], r->dir[k] = ray[4 + k], r->inv_dir[k] = r->inv4[k];
-  r->parallel = zero_d != 0;
+  r->parallel = nonzero_d != 7;
 
-  /* The watertight test's axes and shear, as lt_ray_prepare makes them. */
-  float ax = lt_fabsf(r->dir[0]), ay = lt_fabsf(r->dir[1]), az = lt_fabsf(r->dir[2]);
-  r->kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
-  r->kx = r->kz == 2 ? 0 : r->kz + 1;
-  r->ky = r->kx == 2 ? 0 : r->kx + 1;
-  if (r->dir[r->kz] < 0.0f) {
-    int swap = r->kx;
-    r->kx = r->ky;
-    r->ky = swap;
-  }
-  float dkz = r->valid ? r->dir[r->kz] : 1.0f;
+  /* The watertight test's axes and shear, as lt_ray_prepare makes them: kz = ax > ay ? (ax > az
+   * ? 0 : 2) : (ay > az ? 1 : 2) from the three comparisons' bits (ax > ay, ax > az, ay > az)
+   * as a table of eight two-bit entries; kx and ky follow it, swapped where dir[kz] < 0. */
+  __m128 a = _mm_shuffle_ps(d_abs, d_abs, _MM_SHUFFLE(3, 1, 0, 0)), b = _mm_shuffle_ps(d_abs, d_abs, _MM_SHUFFLE(3, 2, 2, 1));
+  int bits = _mm_movemask_ps(_mm_cmpgt_ps(a, b)) & 7;
+  int kz = 0x192a >> (2 * bits) & 3, kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
+  int negative = _mm_movemask_ps(_mm_cmplt_ps(d, zero)) >> kz & 1;
+  r->kz = kz, r->kx = negative ? ky : kx, r->ky = negative ? kx : ky;
+  float dkz = r->valid ? r->dir[kz] : 1.0f;
   r->sx = r->dir[r->kx] / dkz;
   r->sy = r->dir[r->ky] / dkz;
   r->sz = 1.0f / dkz;
@@ -252,13 +255,12 @@ LT_BVH8_TARGET static inline int lt_bvh8_finish(const lt_ray_setup *r, const lt_
   __m128 org = (__m128)r->org4, inv = (__m128)r->inv4;
   __m128 t0 = _mm_mul_ps(_mm_sub_ps(lo, org), inv), t1 = _mm_mul_ps(_mm_sub_ps(hi, org), inv);
   __m128 t_lo = _mm_min_ps(t0, t1), t_hi = _mm_max_ps(t1, t0);
-  float near_t = _mm_cvtss_f32(t_lo), far_t = _mm_cvtss_f32(t_hi);
-  near_t = near_t > -INFINITY ? near_t : -INFINITY, far_t = far_t < INFINITY ? far_t : INFINITY;
-  for (int k = 1; k < 3; k++) {
-    float l = _mm_cvtss_f32(_mm_shuffle_ps(t_lo, t_lo, k)), h = _mm_cvtss_f32(_mm_shuffle_ps(t_hi, t_hi, k));
-    near_t = l > near_t ? l : near_t;
-    far_t = h < far_t ? h : far_t;
-  }
+  /* lt_ray_slabs' per-axis steps in lane 0: near = l > near ? l : near is maxss(l, near), and
+   * far = h < far ? h : far is minss(h, far), from [-inf, +inf], axis by axis. */
+  __m128 near_v = _mm_max_ss(t_lo, _mm_set_ss(-INFINITY)), far_v = _mm_min_ss(t_hi, _mm_set_ss(INFINITY));
+  near_v = _mm_max_ss(_mm_shuffle_ps(t_lo, t_lo, 1), near_v), far_v = _mm_min_ss(_mm_shuffle_ps(t_hi, t_hi, 1), far_v);
+  near_v = _mm_max_ss(_mm_shuffle_ps(t_lo, t_lo, 2), near_v), far_v = _mm_min_ss(_mm_shuffle_ps(t_hi, t_hi, 2), far_v);
+  float near_t = _mm_cvtss_f32(near_v), far_t = _mm_cvtss_f32(far_v);
   far_t += lt_fabsf(far_t) * LT_SLAB_ROUNDING_EPS;
   t = !(near_t <= far_t) ? NAN : t < near_t ? near_t : t > far_t ? far_t : t;
   return lt_record_hit(r, t, v * inv_det, w * inv_det, block->prim[lane], hit);
