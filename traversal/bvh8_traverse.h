@@ -35,6 +35,7 @@
 #endif
 
 #include <immintrin.h>
+#include <stddef.h>
 
 #include "device/bvh8_node.h"
 #include "traversal/ray_box.h"
@@ -98,6 +99,11 @@ LT_BVH8_TARGET static inline lt_bvh8_ray lt_bvh8_ray_make(const lt_ray_setup *r)
   return q;
 }
 
+_Static_assert(offsetof(lt_ray_setup, dir) == offsetof(lt_ray_setup, org) + 12 &&
+                   offsetof(lt_ray_setup, inv_dir) == offsetof(lt_ray_setup, org) + 24 &&
+                   offsetof(lt_ray_setup, tmin) == offsetof(lt_ray_setup, org) + 36,
+               "lt_ray_setup: org, dir, inv_dir and tmin follow each other");
+
 /* lt_ray_prepare for the 8-wide kernel, from a ray in the ray file's layout (origin, tmin,
  * direction, tmax): the same lt_ray_setup field for field, bit for bit (the tests compare
  * both on valid and invalid rays), with its finiteness checks, zero tests and reciprocals as
@@ -117,14 +123,17 @@ LT_BVH8_TARGET static inline void lt_bvh8_ray_prepare(const float *ray, int flag
   __m128 nonzero = _mm_cmpneq_ps(d, zero);
   int nonzero_d = _mm_movemask_ps(nonzero) & 7;
   r->valid = _mm_movemask_ps(ok) == 15 && nonzero_d;
-  r->tmin = ray[3], r->tmax = ray[7], r->flags = flags;
+  r->flags = flags;
 
   /* 1/d, 0 where d is 0 (either sign), clamped to the largest float; a NaN stays NaN. */
   __m128 inv = _mm_div_ps(_mm_set1_ps(1.0f), d);
   inv = _mm_min_ps(_mm_set1_ps(LT_FLOAT_MAX), _mm_max_ps(_mm_set1_ps(-LT_FLOAT_MAX), inv));
   inv = _mm_and_ps(inv, _mm_and_ps(nonzero, xyz));
   r->org4 = (lt_v4)_mm_and_ps(o, xyz), r->inv4 = (lt_v4)inv;
-  for (int k = 0; k < 3; k++) r->org[k] = ray[k], r->dir[k] = ray[4 + k], r->inv_dir[k] = r->inv4[k];
+  /* org, dir and inv_dir (nine floats in a row, then tmin and tmax) as three four-float
+   * stores, each one's fourth float overwritten by the next store, the last's by tmin. */
+  _mm_storeu_ps(r->org, o), _mm_storeu_ps(r->org + 3, d), _mm_storeu_ps(r->org + 6, inv);
+  r->tmin = ray[3], r->tmax = ray[7];
   r->parallel = nonzero_d != 7;
 
   /* The watertight test's axes and shear, as lt_ray_prepare makes them: kz = ax > ay ? (ax > az
