@@ -89,6 +89,9 @@ typedef struct lt_irg_ray {
   lt_i32 cover;         /* a tested cell whose box holds every voxel before the last on cover_axis, or -1 */
   lt_i32 cover_axis;    /* the axis of the boundary taken since cover was found */
   float cover_exit[3];  /* where the ray crosses cover's far face on each axis (infinity if parallel) */
+#if LT_IRG_WATERTIGHT4
+  lt_watertight4_ray r4; /* the four-triangle test's copy of the ray, made once */
+#endif
 } lt_irg_ray;
 
 LT_DEVICE void lt_irg_ray_start(lt_irg_ray *q, LT_GLOBAL const float *ray, int flags) {
@@ -97,6 +100,9 @@ LT_DEVICE void lt_irg_ray_start(lt_irg_ray *q, LT_GLOBAL const float *ray, int f
   q->hit.t = q->r.tmax, q->hit.u = q->hit.v = 0.0f, q->hit.prim = -1;
   q->state = LT_IRG_RAY_START, q->wait = -1, q->recent_next = 0, q->cover = -1, q->cover_axis = 0;
   for (int i = 0; i < LT_IRG_RECENT; i++) q->recent[i] = -1;
+#if LT_IRG_WATERTIGHT4
+  q->r4 = lt_watertight4_prepare(&q->r);
+#endif
 }
 
 LT_DEVICE lt_hit_record lt_irg_ray_answer(const lt_irg_ray *q) {
@@ -146,11 +152,10 @@ LT_DEVICE int lt_irg_test_cell(const lt_irg_view *v, lt_irg_ray *q, lt_i32 cell,
 #if LT_IRG_WATERTIGHT4
   /* Natively, a cell of two or more triangles takes them four at a time (the same hits). */
   if (p->end - p->begin >= 2 && !(q->r.flags & LT_QUERY_FLAG_FAST_TRIANGLES)) {
-    lt_watertight4_ray q4 = lt_watertight4_prepare(&q->r);
     for (lt_i32 i = p->begin; i < p->end; i += 4) {
       int n = p->end - i < 4 ? p->end - i : 4;
       c->intersections += n;
-      if (lt_watertight4(&q->r, &q4, v->verts, v->refs + i, n, any_hit, &q->hit)) return 1;
+      if (lt_watertight4(&q->r, &q->r4, v->verts, v->refs + i, n, any_hit, &q->hit)) return 1;
     }
     return 0;
   }
