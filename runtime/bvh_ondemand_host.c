@@ -77,6 +77,7 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
   od->sah = *sah;
   od->morton_above = morton_above > 0 && morton_above < od->count ? morton_above : od->count;
   od->wide_on = lt__ondemand_wide_wanted(ctx, mode);
+  od->wide_stride = lt__ondemand_wide_stride();
   if (sah->bins > LT_MAX_BINS) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "at most %d SAH bins", LT_MAX_BINS);
   /* Device buffers: the scene's triangles as they are (no copy on native), their boxes,
    * references, partition room, nodes, bin slabs, counters. */
@@ -241,7 +242,7 @@ static lt_status launch_batch(lt__ondemand *od, const lt_ray *rays, int count, i
 
 lt_status lt__ondemand_launch(lt__ondemand *od, const lt_ray *rays, int count, int flags, lt_hit *hits,
                               int speculate, lt_stats *stats) {
-  int stride = od->wide_on && !od->wide_hold ? lt__ondemand_wide_sample(count) : 0;
+  int stride = od->wide_on && !od->wide_hold ? lt__ondemand_wide_sample(od->wide_stride, count) : 0;
   if (stride == 0) return launch_batch(od, rays, count, flags, hits, speculate, stats, 1);
   /* Every stride-th ray first: it has the pool build most of what the batch needs, which the
    * whole batch's launch then crosses on the wide layout (runtime/bvh_wide_host.c). The

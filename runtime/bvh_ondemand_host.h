@@ -27,6 +27,7 @@ typedef struct lt__ondemand {
   /* Native: the built part collapsed 8 wide before each launch (runtime/bvh_wide_host.c). */
   int wide_on;        /* collapse before each launch with rays */
   int wide_hold;      /* not before the next launch (a re-trace for statistics) */
+  int wide_stride;    /* the sample's stride (lt__ondemand_wide_stride) */
   lt__bvh8 wide;      /* the wide nodes and their triangle copies */
   int wide_collapses; /* collapses so far */
   double wide_ms;     /* host time spent collapsing (part of the launches' time) */
@@ -36,10 +37,12 @@ typedef struct lt__ondemand {
  * on demand, a CPU with AVX2, and not LT_BVH_WIDE=0 in the environment (the switch that
  * measures binary against wide traversal). */
 int lt__ondemand_wide_wanted(const lt_context *ctx, int pool_mode);
-/* The stride of the ray sample traced before a batch of `count` rays (so that the batch runs
- * on a tree collapsed after the sample's builds), or 0 for none: LT_BVH_WIDE_SAMPLE (default
- * 16; 0 turns it off), and none for batches under 1024 samples. */
-int lt__ondemand_wide_sample(int count);
+/* The stride of the ray sample traced before each batch (so that the batch runs on a tree
+ * collapsed after the sample's builds): LT_BVH_WIDE_SAMPLE (default 16; 0 turns it off), read
+ * once when a tree is made, as LT_BVH_WIDE is. */
+int lt__ondemand_wide_stride(void);
+/* That stride for a batch of `count` rays, or 0 for none (none for batches under 1024 samples). */
+int lt__ondemand_wide_sample(int stride, int count);
 /* Collapses the tree as far as it is built into the wide tree, and marks the root's link
  * wide (only while no launch is running). */
 lt_status lt__ondemand_widen(lt__ondemand *od);

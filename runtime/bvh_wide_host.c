@@ -33,11 +33,12 @@ int lt__ondemand_wide_wanted(const lt_context *ctx, int pool_mode) {
 #endif
 }
 
-int lt__ondemand_wide_sample(int count) {
+int lt__ondemand_wide_stride(void) {
   const char *env = getenv("LT_BVH_WIDE_SAMPLE");
-  int stride = env ? atoi(env) : 16;
-  return stride > 1 && count / stride >= 1024 ? stride : 0;
+  return env ? atoi(env) : 16;
 }
+
+int lt__ondemand_wide_sample(int stride, int count) { return stride > 1 && count / stride >= 1024 ? stride : 0; }
 
 lt_status lt__ondemand_widen(lt__ondemand *od) {
   if (!od->wide_on) return LT_OK;
