@@ -15,10 +15,11 @@
  *   empty   count == 0: an unused lane, whose box is the point LT_BVH8_EMPTY_LANE_BOX (below)
  *
  * The tree has its own copy of the triangles in leaf order, each leaf starting at a multiple
- * of four (the lanes up to the next one are padding, never tested), and beside it the same
- * triangles in blocks of four in SoA form (lt_tri4, as Embree's Triangle4): block i holds
- * triangles 4i to 4i + 3. The watertight test runs on a block's four triangles in one vector
- * pass (traversal/bvh8_traverse.h); only its last steps, for a possible hit, run per triangle.
+ * of four (the lanes up to the next one are padding, never tested), in blocks of four in SoA
+ * form with their numbers (lt_tri4, as Embree's Triangle4): block i holds slots 4i to 4i + 3,
+ * 40 bytes a slot. The watertight test runs on a block's four triangles in one vector pass
+ * (traversal/bvh8_traverse.h); only its last steps, for a possible hit, run per triangle, on
+ * the same block's lanes.
  *
  * Node 0 holds the root's children. The traversal's stack holds children (first, count and
  * entry distance), not nodes, so no bits of an index are given up and the node count is

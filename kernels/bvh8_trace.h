@@ -12,14 +12,12 @@ typedef struct lt_bvh8_trace_view {
   lt_trace_batch batch;
   const lt_bvh8_node *nodes;
   const lt_tri4 *blocks;
-  const lt_tri *tris;
 } lt_bvh8_trace_view;
 
 #define LT_BVH8_TRACE_ARGS(X)           \
   LT_TRACE_BATCH_ARGS(X, batch)         \
   X(BUF, lt_bvh8_node, nodes, nodes)    \
-  X(BUF, lt_tri4, blocks, blocks)       \
-  X(BUF, lt_tri, tris, tris)
+  X(BUF, lt_tri4, blocks, blocks)
 
 /* Rays [begin, end) of the batch, each prepared and traced, its hit written; 0, or -1 when a
  * traversal would overflow its stack. The common ray (valid, no zero direction component,
@@ -34,10 +32,10 @@ LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_trace_ra
     lt_bvh8_ray_prepare(v->batch.rays + 8 * (long)i, flags, &r);
     lt_hit_record hit = {r.tmax, 0.0f, 0.0f, -1};
     if (__builtin_expect(!r.parallel, 1))
-      status |= lt_bvh8_traverse_query(v->nodes, v->blocks, v->tris, &r, 0, &hit, c, LT_BVH8_COMMON, NULL, 0, NULL,
+      status |= lt_bvh8_traverse_query(v->nodes, v->blocks, &r, 0, &hit, c, LT_BVH8_COMMON, NULL, 0, NULL,
                                        any_hit);
     else
-      status |= lt_bvh8_traverse_with(v->nodes, v->blocks, v->tris, &r, &hit, c, LT_BVH8_VECTOR);
+      status |= lt_bvh8_traverse_with(v->nodes, v->blocks, &r, &hit, c, LT_BVH8_VECTOR);
     lt_trace_batch_put(&v->batch, i, hit);
   }
   return status;
@@ -61,7 +59,7 @@ LT_BVH8_TARGET __attribute__((noinline)) static int lt_bvh8_trace_other(const lt
     lt_ray_setup r;
     lt_bvh8_ray_prepare(v->batch.rays + 8 * (long)i, v->batch.flags, &r);
     lt_hit_record hit;
-    status |= lt_bvh8_traverse_with(v->nodes, v->blocks, v->tris, &r, &hit, c, LT_BVH8_VECTOR);
+    status |= lt_bvh8_traverse_with(v->nodes, v->blocks, &r, &hit, c, LT_BVH8_VECTOR);
     lt_trace_batch_put(&v->batch, i, hit);
   }
   return status;

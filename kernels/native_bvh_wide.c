@@ -20,7 +20,7 @@ LT_BVH8_TARGET __attribute__((noinline)) int lt__bvh_wide_trace(const lt_bvh_wid
   lt_bvh8_item exits[LT_BVH_RAY_STACK_SIZE];
   int count = 0;
   int room = size - *sp < lt__bvh_wide_exit_limit ? size - *sp : lt__bvh_wide_exit_limit;
-  if (lt_bvh8_traverse_from(w->nodes, w->blocks, w->tris, r, node, hit, c, LT_BVH8_VECTOR, exits, room, &count) != 0)
+  if (lt_bvh8_traverse_from(w->nodes, w->blocks, r, node, hit, c, LT_BVH8_VECTOR, exits, room, &count) != 0)
     return 1;
 
   /* Far to near, so that the nearest exit is popped first (insertion sort: exits are few). */

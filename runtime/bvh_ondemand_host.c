@@ -184,7 +184,7 @@ static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, in
   args.root_hi = (lt_float4){od->bounds.hi[0], od->bounds.hi[1], od->bounds.hi[2], 0.0f};
   launch_args.args = args;
 #if LT_BVH_WIDE
-  lt_bvh_wide_view wide = {od->wide.nodes, od->wide.blocks, od->wide.tris};
+  lt_bvh_wide_view wide = {od->wide.nodes, od->wide.blocks};
   if (od->wide.node_count > 0) launch_args.wide = &wide;
 #endif
   static const lt__persistent_kernel kernel = {"lt_bvh_ondemand", lt__native_bvh_ondemand_kernel, od_args_set_any,
@@ -282,9 +282,9 @@ lt_status lt__ondemand_snapshot(lt__ondemand *od, lt_bvh_node **nodes, int *node
 }
 
 double lt__ondemand_bytes(const lt__ondemand *od, double *node_bytes, double *reference_bytes, double *pool_bytes) {
-  /* The wide tree's nodes and its own triangles (a copy and its blocks) count too: room held. */
+  /* The wide tree's nodes and its own triangles (in blocks of four) count too: room held. */
   *node_bytes = (double)od->nodes.bytes + (double)od->wide.node_capacity * sizeof(lt_bvh8_node);
-  *reference_bytes = (double)od->index.bytes + (double)od->wide.slot_capacity * (sizeof(lt_tri) + sizeof(lt_tri4) / 4);
+  *reference_bytes = (double)od->index.bytes + (double)od->wide.slot_capacity * (sizeof(lt_tri4) / 4);
   *pool_bytes = (double)(od->pool.headers.bytes + od->pool.tasks.bytes + od->pool.empty_cache.bytes +
                          od->pool.priority_cache.bytes + od->pool.control.bytes + od->slabs.bytes);
   return *node_bytes + *reference_bytes + *pool_bytes + od->prim_boxes.bytes + od->side.bytes +

@@ -137,7 +137,7 @@ static void put_stats(lt_structure *s, lt_stats *stats) {
     lt__stats_put(stats, LT_STAT_WIDE_NODES, w->node_count);
     lt__stats_put(stats, LT_STAT_WIDE_BYTES,
                   (double)w->node_capacity * sizeof(lt_bvh8_node) +
-                      (double)w->slot_capacity * (sizeof(lt_tri) + sizeof(lt_tri4) / 4));
+                      (double)w->slot_capacity * (sizeof(lt_tri4) / 4));
     lt__stats_put(stats, LT_STAT_WIDE_MS, b->od.wide_ms);
   }
 }

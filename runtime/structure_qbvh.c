@@ -79,13 +79,12 @@ static lt_status create(lt_structure *s, lt_stats *stats) {
   q->bvh.nodes = NULL;
 
   if (q->width == 8) {
-    /* The 8-wide tree has its own triangles (padded leaves) and their blocks. */
+    /* The 8-wide tree has its own triangles (padded leaves) in blocks of four. */
     free(q->bvh.tris);
     q->bvh.tris = NULL;
     status = lt__buffer_wrap(s->ctx, &q->nodes, q->bvh8.nodes, (size_t)q->bvh8.node_count * sizeof(lt_bvh8_node));
     if (!status)
       status = lt__buffer_wrap(s->ctx, &q->blocks, q->bvh8.blocks, (size_t)q->bvh8.tri_slots / 4 * sizeof(lt_tri4));
-    if (!status) status = lt__buffer_wrap(s->ctx, &q->tris, q->bvh8.tris, (size_t)q->bvh8.tri_slots * sizeof(lt_tri));
   } else {
     status = lt__buffer_wrap(s->ctx, &q->nodes, q->qbvh.nodes, (size_t)q->qbvh.node_count * sizeof(lt_qbvh_node));
     if (!status) status = lt__buffer_wrap(s->ctx, &q->tris, q->bvh.tris, (size_t)q->bvh.tri_count * sizeof(lt_tri));
@@ -99,7 +98,7 @@ static lt_status trace(lt_structure *s, const lt_ray *rays, int count, int flags
   qbvh_state *q = s->state;
 #if defined(__x86_64__)
   if (q->width == 8) {
-    trace8_args args8 = {NULL, NULL, 0, 0, &q->nodes, &q->blocks, &q->tris};
+    trace8_args args8 = {NULL, NULL, 0, 0, &q->nodes, &q->blocks};
     lt_bvh8_trace_view view8;
     lt__trace_call call8 = {"lt_qbvh_trace", lt__native_bvh8_trace_kernel, trace8_args_set_any, trace8_args_view_any,
                             &args8, &args8.rays, &args8.hits, &args8.ray_count, &args8.flags, &view8};
@@ -118,7 +117,7 @@ static void put_stats(lt_structure *s, lt_stats *stats) {
   int wide = q->width == 8;
   size_t node_bytes = wide ? (size_t)q->bvh8.node_count * sizeof(lt_bvh8_node)
                            : (size_t)q->qbvh.node_count * sizeof(lt_qbvh_node);
-  size_t ref_bytes = wide ? (size_t)q->bvh8.tri_slots * (sizeof(lt_tri) + sizeof(lt_tri4) / 4)
+  size_t ref_bytes = wide ? (size_t)q->bvh8.tri_slots * (sizeof(lt_tri4) / 4)
                           : (size_t)q->bvh.tri_count * sizeof(lt_tri);
   double nodes = wide ? (double)q->bvh8.node_count + q->bvh8.leaf_count : (double)q->qbvh.node_count + q->qbvh.leaf_count;
   lt__stats_put(stats, LT_STAT_REFERENCES, (double)lt_scene_triangle_count(s->scene));

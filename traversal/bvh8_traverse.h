@@ -212,10 +212,17 @@ LT_BVH8_TARGET static inline int lt_bvh8_box8(const lt_ray_setup *r, const lt_bv
   return lt_bvh8_box8_slabs(q, n, tmax, t_entry, 0);
 }
 
-/* The one-triangle test of the ray's kind on triangle t. */
-LT_BVH8_TARGET static inline void lt_bvh8_triangle(const lt_ray_setup *r, const lt_tri *t, lt_hit_record *hit) {
-  float v0[3] = {t->v0.x, t->v0.y, t->v0.z}, v1[3] = {t->v1.x, t->v1.y, t->v1.z}, v2[3] = {t->v2.x, t->v2.y, t->v2.z};
-  lt_intersect_triangle(r, v0, v1, v2, lt_float_as_int(t->v0.w), hit);
+/* Lane `lane` of a block: its triangle's three vertices. */
+static inline void lt_bvh8_block_vertices(const lt_tri4 *b, int lane, float v0[3], float v1[3], float v2[3]) {
+  for (int k = 0; k < 3; k++) v0[k] = b->v[k][lane], v1[k] = b->v[3 + k][lane], v2[k] = b->v[6 + k][lane];
+}
+
+/* The one-triangle test of the ray's kind on lane `lane` of a block. */
+LT_BVH8_TARGET static inline void lt_bvh8_triangle(const lt_ray_setup *r, const lt_tri4 *b, int lane,
+                                                  lt_hit_record *hit) {
+  float v0[3], v1[3], v2[3];
+  lt_bvh8_block_vertices(b, lane, v0, v1, v2);
+  lt_intersect_triangle(r, v0, v1, v2, b->prim[lane], hit);
 }
 
 #ifndef LT_HAVE_DOUBLE
@@ -284,22 +291,20 @@ LT_BVH8_TARGET static inline int lt_bvh8_finish(const lt_ray_setup *r, const lt_
  * others are the test's candidates and go through its last steps (lt_watertight_finish) with
  * the lane's floats. Returns 1 when an any-hit query found its hit (the rest is not tested). */
 LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_tri4_watertight(
-    const lt_ray_setup *r, const lt_bvh8_ray *q, const lt_tri4 *b, const lt_tri *t, int lanes, int any_hit, int common,
+    const lt_ray_setup *r, const lt_bvh8_ray *q, const lt_tri4 *b, int lanes, int any_hit, int common,
     lt_hit_record *hit) {
   lt_watertight4_lanes l;
   int todo = lt_watertight4_steps(r, &q->tri, (const __m128 *)b->v, lanes, &l);
   for (; todo; todo &= todo - 1) {
     int lane = __builtin_ctz((unsigned)todo);
-    const lt_tri *tri = &t[lane];
     if (l.zeros >> lane & 1) {
-      lt_bvh8_triangle(r, tri, hit);
+      lt_bvh8_triangle(r, b, lane, hit);
     } else if (common || !r->parallel) {
       lt_bvh8_finish(r, b, lane, l.u[lane], l.v[lane], l.w[lane], l.t_scaled[lane], hit);
     } else {
-      float v0[3] = {tri->v0.x, tri->v0.y, tri->v0.z}, v1[3] = {tri->v1.x, tri->v1.y, tri->v1.z};
-      float v2[3] = {tri->v2.x, tri->v2.y, tri->v2.z};
-      lt_watertight_finish(r, v0, v1, v2, l.u[lane], l.v[lane], l.w[lane], l.t_scaled[lane], lt_float_as_int(tri->v0.w),
-                           hit);
+      float v0[3], v1[3], v2[3];
+      lt_bvh8_block_vertices(b, lane, v0, v1, v2);
+      lt_watertight_finish(r, v0, v1, v2, l.u[lane], l.v[lane], l.w[lane], l.t_scaled[lane], b->prim[lane], hit);
     }
     if (any_hit && hit->prim >= 0) return 1;
   }
@@ -311,20 +316,19 @@ LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_tri4_wat
  * any-hit query found its hit; the rest of the leaf is then not tested, either way. */
 LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_leaf(const lt_ray_setup *r,
                                                                              const lt_bvh8_ray *q,
-                                                                             const lt_tri4 *blocks, const lt_tri *tris,
-                                                                             lt_i32 first, lt_i32 count, int vector,
-                                                                             int any_hit, lt_hit_record *hit) {
-  const lt_tri *t = &tris[first];
+                                                                             const lt_tri4 *blocks, lt_i32 first,
+                                                                             lt_i32 count, int vector, int any_hit,
+                                                                             lt_hit_record *hit) {
+  const lt_tri4 *b = &blocks[first >> 2];
   if (vector != LT_BVH8_COMMON && (vector == LT_BVH8_PLAIN || !q->filter)) {
     for (lt_i32 k = 0; k < count; k++) {
-      lt_bvh8_triangle(r, &t[k], hit);
+      lt_bvh8_triangle(r, &b[k >> 2], k & 3, hit);
       if (any_hit && hit->prim >= 0) return 1;
     }
     return 0;
   }
-  const lt_tri4 *b = &blocks[first >> 2];
-  for (lt_i32 left = count; left > 0; left -= 4, b++, t += 4)
-    if (lt_bvh8_tri4_watertight(r, q, b, t, left < 4 ? (1 << left) - 1 : 15, any_hit, vector == LT_BVH8_COMMON, hit))
+  for (lt_i32 left = count; left > 0; left -= 4, b++)
+    if (lt_bvh8_tri4_watertight(r, q, b, left < 4 ? (1 << left) - 1 : 15, any_hit, vector == LT_BVH8_COMMON, hit))
       return 1;
   return 0;
 }
@@ -337,8 +341,7 @@ LT_BVH8_TARGET static inline int lt_bvh8_exit_lanes(const lt_bvh8_node *n) {
 
 /* lt_bvh8_traverse_from for one kind of query and one form, both constants where it is inlined. */
 LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_traverse_query(
-    const lt_bvh8_node *nodes, const lt_tri4 *blocks, const lt_tri *tris, const lt_ray_setup *r, lt_i32 root,
-    lt_hit_record *io, lt_trace_counters *c, int vector, lt_bvh8_item *exits, int max_exits, int *exit_count,
+    const lt_bvh8_node *nodes, const lt_tri4 *blocks, const lt_ray_setup *r, lt_i32 root, lt_hit_record *io, lt_trace_counters *c, int vector, lt_bvh8_item *exits, int max_exits, int *exit_count,
     int any_hit) {
   lt_hit_record hit = *io;
   int status = 0;
@@ -430,7 +433,7 @@ LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_traverse
     } else {
       /* A leaf: four triangles at a time. */
       tests += (lt_u32)count;
-      if (lt_bvh8_leaf(r, &q, blocks, tris, first, count, vector, any_hit, &hit)) break;
+      if (lt_bvh8_leaf(r, &q, blocks, first, count, vector, any_hit, &hit)) break;
     }
 
     /* The nearest pending child the best hit does not rule out (ties are kept: a triangle at
@@ -467,9 +470,9 @@ LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_traverse
  * that neither tests the kind of query or of ray in its loop; the other rays share one out of
  * line. */
 #define LT_BVH8_TRAVERSE_PARAMS                                                                             \
-  const lt_bvh8_node *nodes, const lt_tri4 *blocks, const lt_tri *tris, const lt_ray_setup *r, lt_i32 root, \
-      lt_hit_record *io, lt_trace_counters *c, int vector, lt_bvh8_item *exits, int max_exits, int *exit_count
-#define LT_BVH8_TRAVERSE_ARGS nodes, blocks, tris, r, root, io, c, vector, exits, max_exits, exit_count
+  const lt_bvh8_node *nodes, const lt_tri4 *blocks, const lt_ray_setup *r, lt_i32 root, lt_hit_record *io, \
+      lt_trace_counters *c, int vector, lt_bvh8_item *exits, int max_exits, int *exit_count
+#define LT_BVH8_TRAVERSE_ARGS nodes, blocks, r, root, io, c, vector, exits, max_exits, exit_count
 
 /* Three functions, each compiled (and its registers allocated) for one loop. */
 LT_BVH8_TARGET __attribute__((noinline, unused)) static int lt_bvh8_traverse_rare(LT_BVH8_TRAVERSE_PARAMS) {
@@ -477,11 +480,11 @@ LT_BVH8_TARGET __attribute__((noinline, unused)) static int lt_bvh8_traverse_rar
 }
 LT_BVH8_TARGET __attribute__((noinline, unused)) static int lt_bvh8_traverse_any(LT_BVH8_TRAVERSE_PARAMS) {
   (void)vector;
-  return lt_bvh8_traverse_query(nodes, blocks, tris, r, root, io, c, LT_BVH8_COMMON, exits, max_exits, exit_count, 1);
+  return lt_bvh8_traverse_query(nodes, blocks, r, root, io, c, LT_BVH8_COMMON, exits, max_exits, exit_count, 1);
 }
 LT_BVH8_TARGET __attribute__((noinline, unused)) static int lt_bvh8_traverse_closest(LT_BVH8_TRAVERSE_PARAMS) {
   (void)vector;
-  return lt_bvh8_traverse_query(nodes, blocks, tris, r, root, io, c, LT_BVH8_COMMON, exits, max_exits, exit_count, 0);
+  return lt_bvh8_traverse_query(nodes, blocks, r, root, io, c, LT_BVH8_COMMON, exits, max_exits, exit_count, 0);
 }
 
 LT_BVH8_TARGET static inline int lt_bvh8_traverse_from(LT_BVH8_TRAVERSE_PARAMS) {
@@ -494,10 +497,10 @@ LT_BVH8_TARGET static inline int lt_bvh8_traverse_from(LT_BVH8_TRAVERSE_PARAMS) 
 /* Traces one ray through a whole finished 8-wide tree (node 0 holds the root's children);
  * writes the hit (prim -1 on a miss) and returns as lt_bvh8_traverse_from. */
 LT_BVH8_TARGET static inline int lt_bvh8_traverse_with(const lt_bvh8_node *nodes, const lt_tri4 *blocks,
-                                                       const lt_tri *tris, const lt_ray_setup *r, lt_hit_record *out,
+                                                       const lt_ray_setup *r, lt_hit_record *out,
                                                        lt_trace_counters *c, int vector) {
   out->t = r->tmax, out->u = out->v = 0.0f, out->prim = -1;
-  return lt_bvh8_traverse_from(nodes, blocks, tris, r, 0, out, c, vector, NULL, 0, NULL);
+  return lt_bvh8_traverse_from(nodes, blocks, r, 0, out, c, vector, NULL, 0, NULL);
 }
 
 #endif

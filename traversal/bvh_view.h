@@ -18,11 +18,10 @@
 #define LT_BVH_RAY_STACK_SIZE 256
 #include "device/bvh8_node.h"
 
-/* The 8-wide tree of one on-demand tree: its nodes, triangles and four-triangle blocks. */
+/* The 8-wide tree of one on-demand tree: its nodes and its triangles in four-triangle blocks. */
 typedef struct lt_bvh_wide_view {
   const lt_bvh8_node *nodes;
   const lt_tri4 *blocks;
-  const lt_tri *tris;
 } lt_bvh_wide_view;
 
 /* Traces a ray from the children of wide node `node`, starting from and updating its best hit

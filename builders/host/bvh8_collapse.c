@@ -30,13 +30,11 @@ static lt_tri leaf_triangle(const collapser *c, int first, int i) {
 }
 
 /* Copies a leaf's `count` triangles from position `first` to slot `at` (a multiple of four) of
- * the tree's own, pads to the next multiple of four with copies of its first triangle, and
- * writes the blocks. */
+ * the tree's own blocks, padded to the next multiple of four with copies of its first triangle. */
 static void write_leaf(const collapser *c, int first, int count, int at) {
   lt__bvh8 *out = c->out;
   for (int i = 0; i < (count + 3) / 4 * 4; i++) {
     lt_tri t = leaf_triangle(c, first, i < count ? i : 0);
-    out->tris[at + i] = t;
     lt_tri4 *b = &out->blocks[(at + i) / 4];
     const lt_float4 *v[3] = {&t.v0, &t.v1, &t.v2};
     for (int j = 0; j < 3; j++)
@@ -98,15 +96,11 @@ static lt_status reserve(lt__bvh8 *w, int nodes, int slots) {
   if (need_slots > (size_t)w->slot_capacity) {
     size_t cap = need_slots > 2 * (size_t)w->slot_capacity ? need_slots : 2 * (size_t)w->slot_capacity;
     cap = cap < 4 ? 4 : cap;
-    lt_tri *tris = aligned_alloc(64, (cap * sizeof *tris + 63) / 64 * 64);
     lt_tri4 *blocks = aligned_alloc(64, (cap / 4 * sizeof *blocks + 63) / 64 * 64);
-    if (!tris || !blocks) return free(tris), free(blocks), LT_ERROR_OUT_OF_MEMORY;
-    if (w->tri_slots) {
-      memcpy(tris, w->tris, (size_t)w->tri_slots * sizeof *tris);
-      memcpy(blocks, w->blocks, (size_t)w->tri_slots / 4 * sizeof *blocks);
-    }
-    free(w->tris), free(w->blocks);
-    w->tris = tris, w->blocks = blocks, w->slot_capacity = (int)cap;
+    if (!blocks) return LT_ERROR_OUT_OF_MEMORY;
+    if (w->tri_slots) memcpy(blocks, w->blocks, (size_t)w->tri_slots / 4 * sizeof *blocks);
+    free(w->blocks);
+    w->blocks = blocks, w->slot_capacity = (int)cap;
   }
   return LT_OK;
 }
@@ -147,7 +141,6 @@ lt_status lt__bvh8_collapse_built(lt__bvh8 *out, const lt_bvh_node *nodes, int l
 
 void lt__bvh8_free(lt__bvh8 *bvh8) {
   free(bvh8->nodes);
-  free(bvh8->tris);
   free(bvh8->blocks);
   memset(bvh8, 0, sizeof *bvh8);
 }

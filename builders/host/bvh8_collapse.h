@@ -7,11 +7,11 @@
 #include "device/bvh8_node.h"
 
 /* The nodes of an 8-wide tree, and its own copy of the binary BVH's triangles in leaf order,
- * every leaf starting at a multiple of four, also as blocks of four (device/bvh8_node.h). */
+ * every leaf starting at a multiple of four, in blocks of four (device/bvh8_node.h: lt_tri4,
+ * vertices and triangle numbers): the traversal reads nothing else. */
 typedef struct lt__bvh8 {
   lt_bvh8_node *nodes; /* node 0 holds the root's children; 64-byte aligned */
   int node_count;
-  lt_tri *tris;    /* tri_slots triangles, padding after each leaf to a multiple of four */
   lt_tri4 *blocks; /* tri_slots / 4 blocks: block i is triangles 4i to 4i + 3 */
   int tri_slots;
   int leaf_count;
