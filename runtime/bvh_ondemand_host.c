@@ -247,12 +247,12 @@ lt_status lt__ondemand_launch(lt__ondemand *od, const lt_ray *rays, int count, i
   /* Every stride-th ray first: it has the pool build most of what the batch needs, which the
    * whole batch's launch then crosses on the wide layout (runtime/bvh_wide_host.c). The
    * sample's rays are traced again there; only that second trace's visits count. */
-  int n = (count + stride - 1) / stride;
-  lt_ray *sample = malloc((size_t)n * sizeof *sample);
-  lt_hit *sample_hits = malloc((size_t)n * sizeof *sample_hits);
+  size_t n = ((size_t)count + (size_t)stride - 1) / (size_t)stride; /* count >= 1024 * stride, stride > 1 */
+  lt_ray *sample = malloc(n * sizeof *sample);
+  lt_hit *sample_hits = malloc(n * sizeof *sample_hits);
   lt_status status = sample && sample_hits ? LT_OK : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a ray sample");
-  for (int i = 0; !status && i < n; i++) sample[i] = rays[(size_t)i * stride];
-  if (!status) status = launch_batch(od, sample, n, flags, sample_hits, speculate, stats, 0);
+  for (size_t i = 0; !status && i < n; i++) sample[i] = rays[i * (size_t)stride];
+  if (!status) status = launch_batch(od, sample, (int)n, flags, sample_hits, speculate, stats, 0);
   free(sample);
   free(sample_hits);
   return status ? status : launch_batch(od, rays, count, flags, hits, speculate, stats, 1);
