@@ -1,7 +1,7 @@
 /* The trace kernel of the QBVH's native 8-wide path (device/bvh8_node.h,
- * traversal/bvh8_traverse.h): one ray at a time through the eight-box AVX2 traversal; leaves
- * are triangles in leaf order. Native backend only: runtime/structure_qbvh.c takes it where
- * the CPU has AVX2. */
+ * traversal/bvh8_traverse.h): one ray at a time through the eight-box AVX2 traversal, a chunk
+ * of rays a call; leaves are blocks of four triangles. Native backend only:
+ * runtime/structure_qbvh.c takes it where the CPU has AVX2. */
 #ifndef LT_KERNEL_BVH8_TRACE_H
 #define LT_KERNEL_BVH8_TRACE_H
 
