@@ -53,6 +53,19 @@ LT_DEVICE lt_bvh_view lt_od_view(const lt_od_args *a) {
   return v;
 }
 
+/* Starts ray i: natively, where the launch has a wide tree, the ray crosses it at once
+ * (lt__bvh_wide_start), and only a ray left at an exit goes on in the binary traversal. */
+LT_DEVICE void lt_od_start(const lt_od_args *a, lt_bvh_ray *q, lt_i32 i, lt_trace_counters *c) {
+#if LT_BVH_WIDE
+  if (a->wide && a->wide->root >= 0) {
+    lt__bvh_wide_start(a->wide, a->rays + 8 * (long)i, a->flags, q, c);
+    return;
+  }
+#endif
+  (void)c;
+  lt_bvh_ray_start(q, a->rays + 8 * (long)i);
+}
+
 LT_DEVICE int lt_od_advance(const lt_od_args *a, lt_bvh_ray *q, lt_trace_counters *c) {
   lt_bvh_view v = lt_od_view(a);
   return lt_bvh_advance_ondemand(&v, q, a->flags, c);
@@ -70,7 +83,7 @@ LT_DEVICE void lt_od_flush(const lt_od_args *a, const lt_trace_counters *c) {
 #define LT_LOOP_ITEM lt_bvh_ray
 #define LT_LOOP_ITEMS_PER_WORK_ITEM LT_OD_RAYS_PER_ITEM
 #define LT_LOOP_ITEM_COUNT(a) ((a)->ray_count)
-#define LT_LOOP_START(a, q, i) lt_bvh_ray_start(q, (a)->rays + 8 * (long)(i))
+#define LT_LOOP_START(a, q, i, c) lt_od_start(a, q, i, c)
 #define LT_LOOP_ADVANCE(a, q, c) lt_od_advance(a, q, c)
 #define LT_LOOP_FINISH(a, i, q) ((a)->hits[i] = lt_bvh_ray_answer(q))
 #define LT_LOOP_BUILD(a) ((a)->speculate || (a)->build.pool.mode == LT_POOL_FULL)

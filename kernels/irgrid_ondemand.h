@@ -62,7 +62,7 @@ LT_DEVICE void lt_irg_flush(const lt_irg_args *a, const lt_trace_counters *c) {
 #define LT_LOOP_ITEM lt_irg_ray
 #define LT_LOOP_ITEMS_PER_WORK_ITEM LT_IRG_RAYS_PER_ITEM
 #define LT_LOOP_ITEM_COUNT(a) ((a)->ray_count)
-#define LT_LOOP_START(a, q, i) lt_irg_ray_start(q, (a)->rays + 8 * (long)(i), (a)->flags)
+#define LT_LOOP_START(a, q, i, c) lt_irg_ray_start(q, (a)->rays + 8 * (long)(i), (a)->flags)
 #define LT_LOOP_ADVANCE(a, q, c) lt_irg_args_advance(a, q, c)
 #define LT_LOOP_FINISH(a, i, q) ((a)->hits[i] = lt_irg_ray_answer(q))
 #define LT_LOOP_BUILD(a) ((a)->speculate || (a)->build.pool.mode == LT_POOL_FULL)
@@ -82,7 +82,7 @@ LT_DEVICE void lt_irg_flush(const lt_irg_args *a, const lt_trace_counters *c) {
 #define LT_LOOP_ITEM lt_irg_ray
 #define LT_LOOP_ITEMS_PER_WORK_ITEM LT_IRG_RAYS_PER_ITEM
 #define LT_LOOP_ITEM_COUNT(a) 0
-#define LT_LOOP_START(a, q, i) lt_irg_ray_start(q, (a)->rays + 8 * (long)(i), (a)->flags)
+#define LT_LOOP_START(a, q, i, c) lt_irg_ray_start(q, (a)->rays + 8 * (long)(i), (a)->flags)
 #define LT_LOOP_ADVANCE(a, q, c) lt_irg_args_advance(a, q, c)
 #define LT_LOOP_FINISH(a, i, q) ((a)->hits[i] = lt_irg_ray_answer(q))
 #define LT_LOOP_BUILD(a) 1

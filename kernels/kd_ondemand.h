@@ -88,7 +88,7 @@ LT_DEVICE void lt_kd_flush(const lt_kd_args *a, const lt_trace_counters *c) {
 #define LT_LOOP_ITEM lt_kd_ray
 #define LT_LOOP_ITEMS_PER_WORK_ITEM LT_KD_RAYS_PER_ITEM
 #define LT_LOOP_ITEM_COUNT(a) ((a)->ray_count)
-#define LT_LOOP_START(a, q, i) lt_kd_start(a, q, i)
+#define LT_LOOP_START(a, q, i, c) lt_kd_start(a, q, i)
 #define LT_LOOP_ADVANCE(a, q, c) lt_kd_args_advance(a, q, c)
 #define LT_LOOP_FINISH(a, i, q) ((a)->hits[i] = lt_kd_ray_answer(q))
 #define LT_LOOP_BUILD(a) ((a)->speculate || (a)->build.pool.mode == LT_POOL_FULL)

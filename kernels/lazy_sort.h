@@ -53,7 +53,7 @@ LT_DEVICE int lt_sort_query_advance(const lt_sort_args *a, lt_sort_query *q) {
 #define LT_LOOP_ITEM lt_sort_query
 #define LT_LOOP_ITEMS_PER_WORK_ITEM 1
 #define LT_LOOP_ITEM_COUNT(a) ((a)->query_count)
-#define LT_LOOP_START(a, q, i) lt_sort_query_start(a, q, i)
+#define LT_LOOP_START(a, q, i, c) lt_sort_query_start(a, q, i)
 #define LT_LOOP_ADVANCE(a, q, c) lt_sort_query_advance(a, q)
 #define LT_LOOP_FINISH(a, i, q) ((a)->answers[i] = (q)->answer)
 #define LT_LOOP_BUILD(a) 1

@@ -1,8 +1,9 @@
 /* The on-demand traversal's way into the wide tree of its built part (traversal/bvh_view.h):
  * the 8-wide AVX2 traversal of traversal/bvh8_traverse.h from the ray's best hit so far, its
- * exits handed to the binary stack. Kept out of line: the persistent kernel is baseline
- * x86-64, this function AVX2, and only CPUs with AVX2 have wide trees (the host checks
- * lt_bvh8_supported before it makes one). */
+ * exits handed to the binary stack; and a ray's start on the wide tree, so that a ray that
+ * meets no exit never enters the binary traversal. Kept out of line: the persistent kernel is
+ * baseline x86-64, these functions AVX2, and only CPUs with AVX2 have wide trees (the host
+ * checks lt_bvh8_supported before it makes one). */
 #include "kernels/native_kernels.h"
 
 #if defined(__x86_64__)
@@ -13,10 +14,12 @@
  * it to send rays down the fallback, the binary subtree. */
 int lt__bvh_wide_exit_limit = LT_BVH_RAY_STACK_SIZE;
 
-LT_BVH8_TARGET __attribute__((noinline)) int lt__bvh_wide_trace(const lt_bvh_wide_view *w, const lt_ray_setup *r,
-                                                                lt_hit_record *hit, lt_i32 node, lt_i32 *stack,
-                                                                float *stack_t, lt_i32 *sp, lt_i32 size,
-                                                                lt_trace_counters *c) {
+/* lt__bvh_wide_trace's body, inlined in both entries. */
+LT_BVH8_TARGET __attribute__((always_inline)) static inline int wide_trace(const lt_bvh_wide_view *w,
+                                                                          const lt_ray_setup *r, lt_hit_record *hit,
+                                                                          lt_i32 node, lt_i32 *stack, float *stack_t,
+                                                                          lt_i32 *sp, lt_i32 size,
+                                                                          lt_trace_counters *c) {
   lt_bvh8_item exits[LT_BVH_RAY_STACK_SIZE];
   int count = 0;
   int room = size - *sp < lt__bvh_wide_exit_limit ? size - *sp : lt__bvh_wide_exit_limit;
@@ -32,5 +35,29 @@ LT_BVH8_TARGET __attribute__((noinline)) int lt__bvh_wide_trace(const lt_bvh_wid
   }
   for (int i = 0; i < count; i++) stack[*sp] = exits[i].first, stack_t[*sp] = exits[i].t, (*sp)++;
   return 0;
+}
+
+LT_BVH8_TARGET __attribute__((noinline)) int lt__bvh_wide_trace(const lt_bvh_wide_view *w, const lt_ray_setup *r,
+                                                                lt_hit_record *hit, lt_i32 node, lt_i32 *stack,
+                                                                float *stack_t, lt_i32 *sp, lt_i32 size,
+                                                                lt_trace_counters *c) {
+  return wide_trace(w, r, hit, node, stack, stack_t, sp, size, c);
+}
+
+/* The binary traversal would box-test the root's box at the super-root first; the wide tree
+ * starts at the root's children, whose boxes lie inside it (a ray that misses the root's box
+ * misses theirs too, bit for bit: traversal/ray.h), so the hits are the same. */
+LT_BVH8_TARGET __attribute__((noinline)) void lt__bvh_wide_start(const lt_bvh_wide_view *w, const float *ray,
+                                                                 int flags, lt_bvh_ray *q, lt_trace_counters *c) {
+  lt_bvh8_ray_prepare(ray, flags, &q->r);
+  lt_hit_record hit = {q->r.tmax, 0.0f, 0.0f, -1};
+  q->sp = 0, q->wait = -1, q->overflow = 0, q->cur = -1;
+  if (q->r.valid) {
+    if (wide_trace(w, &q->r, &hit, w->root, q->stack, q->stack_t, &q->sp, LT_BVH_RAY_STACK_SIZE, c) != 0)
+      q->cur = 0; /* exits that would not fit: the binary tree from the super-root */
+    else if (q->sp > 0 && !((flags & LT_QUERY_FLAG_ANY) && hit.prim >= 0))
+      q->hit = hit, q->cur = lt_bvh_ray_pop(q);
+  }
+  q->hit = hit;
 }
 #endif

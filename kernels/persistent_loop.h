@@ -13,7 +13,8 @@
  *   #define LT_LOOP_ITEM        the state of one item in flight (kept across suspensions)
  *   #define LT_LOOP_ITEMS_PER_WORK_ITEM  items a work-item takes per batch (one counter update each)
  *   #define LT_LOOP_ITEM_COUNT(a)        items of this launch
- *   #define LT_LOOP_START(a, q, i)       begins item i in *q
+ *   #define LT_LOOP_START(a, q, i, c)    begins item i in *q (c: the counters, for a start
+ *                                        that already advances it)
  *   #define LT_LOOP_ADVANCE(a, q, c)     advances *q; 1 when done, 0 while it waits for a node
  *   #define LT_LOOP_FINISH(a, i, q)      writes item i's answer
  *   #define LT_LOOP_BUILD(a)    whether to take chunks no item of the group waits for

@@ -31,7 +31,7 @@ LT_DEVICE void LT_LOOP_NAME(const LT_LOOP_ARGS *a, LT_LOCAL lt_loop_shared *sh) 
       if (next_item < end_item) {
         item = next_item;
         next_item += lsize;
-        LT_LOOP_START(a, &q, item);
+        LT_LOOP_START(a, &q, item, &c);
       }
     }
     sh->pending[lid] = item >= 0;
@@ -56,7 +56,7 @@ LT_DEVICE void LT_LOOP_NAME(const LT_LOOP_ARGS *a, LT_LOCAL lt_loop_shared *sh) 
       end_item = batch_end < count ? batch_end : count;
       item = batch + lid < end_item ? batch + lid : -1;
       next_item = batch + lid + lsize;
-      if (item >= 0) LT_LOOP_START(a, &q, item);
+      if (item >= 0) LT_LOOP_START(a, &q, item, &c);
     }
 
     /* Building: the group works the chunk together; work-item 0 ends the phase. */

@@ -184,8 +184,15 @@ static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, in
   args.root_hi = (lt_float4){od->bounds.hi[0], od->bounds.hi[1], od->bounds.hi[2], 0.0f};
   launch_args.args = args;
 #if LT_BVH_WIDE
-  lt_bvh_wide_view wide = {od->wide.nodes, od->wide.blocks};
-  if (od->wide.node_count > 0) launch_args.wide = &wide;
+  /* Rays start on the wide tree where the root is wide (runtime/bvh_wide_host.c). */
+  lt_bvh_wide_view wide = {od->wide.nodes, od->wide.blocks, -1};
+  if (od->wide.node_count > 0) {
+    lt_i32 link, count;
+    if (lt_bvh_child(&((const lt_bvh_node *)od->nodes.host)[0], 0, &link, &count) == LT_CHILD_INNER &&
+        lt_bvh_child_is_wide(count))
+      wide.root = lt_bvh_wide_node(count);
+    launch_args.wide = &wide;
+  }
 #endif
   static const lt__persistent_kernel kernel = {"lt_bvh_ondemand", lt__native_bvh_ondemand_kernel, od_args_set_any,
                                                od_view_any};

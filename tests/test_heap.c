@@ -168,7 +168,7 @@ static void tally_end(const mixed_args *a, lt_i32 slot) { lt_pool_retire(&a->poo
 #define LT_LOOP_ITEM mixed_item
 #define LT_LOOP_ITEMS_PER_WORK_ITEM 1
 #define LT_LOOP_ITEM_COUNT(a) 0
-#define LT_LOOP_START(a, q, i) ((void)(q))
+#define LT_LOOP_START(a, q, i, c) ((void)(q))
 #define LT_LOOP_ADVANCE(a, q, c) ((void)(q), 1)
 #define LT_LOOP_FINISH(a, i, q) ((void)0)
 #define LT_LOOP_BUILD(a) 1

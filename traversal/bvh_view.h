@@ -18,10 +18,12 @@
 #define LT_BVH_RAY_STACK_SIZE 256
 #include "device/bvh8_node.h"
 
-/* The 8-wide tree of one on-demand tree: its nodes and its triangles in four-triangle blocks. */
+/* The 8-wide tree of one on-demand tree: its nodes and its triangles in four-triangle blocks,
+ * and the wide node whose lanes are the scene root's children (-1: the root is binary). */
 typedef struct lt_bvh_wide_view {
   const lt_bvh8_node *nodes;
   const lt_tri4 *blocks;
+  lt_i32 root;
 } lt_bvh_wide_view;
 
 /* Traces a ray from the children of wide node `node`, starting from and updating its best hit
@@ -69,6 +71,14 @@ LT_DEVICE void lt_bvh_ray_start(lt_bvh_ray *q, LT_GLOBAL const float *ray) {
   q->sp = 0, q->wait = -1, q->overflow = 0;
   q->cur = q->r.valid ? 0 : -1;
 }
+
+#if LT_BVH_WIDE
+/* lt_bvh_ray_start for a launch whose tree's root is wide: the ray prepared as lt_ray_prepare
+ * prepares it (lt_bvh8_ray_prepare), then traced through the wide tree from the root with
+ * lt__bvh_wide_trace, so that the binary traversal sees it only if it entered exits (it goes on
+ * from the nearest) or they would not fit (from the root, with the best hit so far). */
+void lt__bvh_wide_start(const lt_bvh_wide_view *w, const float *ray, int flags, lt_bvh_ray *q, lt_trace_counters *c);
+#endif
 
 /* A finished ray's answer in the hit file's layout: a miss is t = +infinity, u = v = 0. */
 LT_DEVICE lt_hit_record lt_bvh_ray_answer(const lt_bvh_ray *q) {
