@@ -11,13 +11,14 @@
  *           at address -2 - first of the binary tree (device/bvh_node.h): the 8-wide
  *           traversal hands it back to the binary one (first is then that traversal's stack
  *           entry for the link)
- *   leaf    count > 0: `count` triangles (lt_tri) from position `first`, a multiple of 4
+ *   leaf    count > 0: `count` triangles from slot `first` of the tree's blocks (below)
  *   empty   count == 0: an unused lane, whose box is the point LT_BVH8_EMPTY_LANE_BOX (below)
  *
- * The tree has its own copy of the triangles in leaf order, each leaf starting at a multiple
- * of four (the lanes up to the next one are padding, never tested), in blocks of four in SoA
- * form with their numbers (lt_tri4, as Embree's Triangle4): block i holds slots 4i to 4i + 3,
- * 40 bytes a slot. The watertight test runs on a block's four triangles in one vector pass
+ * The tree has its own copy of the triangles in leaf order, in blocks of four in SoA form with
+ * their numbers (lt_tri4, as Embree's Triangle4): block i holds slots 4i to 4i + 3, 40 bytes a
+ * slot. A leaf of up to four triangles lies within one block, sharing it with its neighbours
+ * in leaf order where they fit; a longer leaf starts a block; lanes no leaf holds are copies of
+ * their block's lane 0, never tested. The watertight test runs on a block's four triangles in one vector pass
  * (traversal/bvh8_traverse.h); only its last steps, for a possible hit, run per triangle, on
  * the same block's lanes.
  *

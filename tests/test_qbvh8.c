@@ -60,9 +60,11 @@ static lt_box walk_node(walk *w, int at, int depth) {
     assert_int_equal(lane, lanes); /* siblings are the first lanes, together */
     lanes++;
     if (count > 0) {
-      /* A leaf: from a multiple of four in the tree's own blocks, each scene triangle seen
-       * once, its block lane that triangle's vertices; its box the triangles' exact bounds. */
-      assert_true(first >= 0 && first % 4 == 0 && first + count <= w->w8->tri_slots);
+      /* A leaf: in the tree's own blocks, within one block if it has at most four triangles,
+       * else from a block's start; each scene triangle seen once, its block lane that
+       * triangle's vertices; its box the triangles' exact bounds. */
+      assert_true(first >= 0 && first + count <= w->w8->tri_slots);
+      assert_true(count <= 4 ? first / 4 == (first + count - 1) / 4 : first % 4 == 0);
       for (int i = first; i < first + count; i++) {
         const lt_tri4 *b = &w->w8->blocks[i / 4];
         int prim = b->prim[i % 4];

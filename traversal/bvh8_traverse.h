@@ -319,16 +319,20 @@ LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_leaf(con
                                                                              const lt_tri4 *blocks, lt_i32 first,
                                                                              lt_i32 count, int vector, int any_hit,
                                                                              lt_hit_record *hit) {
-  const lt_tri4 *b = &blocks[first >> 2];
   if (vector != LT_BVH8_COMMON && (vector == LT_BVH8_PLAIN || !q->filter)) {
-    for (lt_i32 k = 0; k < count; k++) {
-      lt_bvh8_triangle(r, &b[k >> 2], k & 3, hit);
+    for (lt_i32 k = first; k < first + count; k++) {
+      lt_bvh8_triangle(r, &blocks[k >> 2], k & 3, hit);
       if (any_hit && hit->prim >= 0) return 1;
     }
     return 0;
   }
-  for (lt_i32 left = count; left > 0; left -= 4, b++)
-    if (lt_bvh8_tri4_watertight(r, q, b, left < 4 ? (1 << left) - 1 : 15, any_hit, vector == LT_BVH8_COMMON, hit))
+  /* A leaf of up to four triangles lies in one block, from lane first & 3 (a longer one
+   * starts a block): the first block's lanes are the leaf's ones shifted there. */
+  const lt_tri4 *b = &blocks[first >> 2];
+  int shift = first & 3;
+  for (lt_i32 left = count; left > 0; left -= 4, b++, shift = 0)
+    if (lt_bvh8_tri4_watertight(r, q, b, (left < 4 ? (1 << left) - 1 : 15) << shift, any_hit,
+                                vector == LT_BVH8_COMMON, hit))
       return 1;
   return 0;
 }

@@ -29,18 +29,46 @@ static lt_tri leaf_triangle(const collapser *c, int first, int i) {
   return t;
 }
 
-/* Copies a leaf's `count` triangles from position `first` to slot `at` (a multiple of four) of
- * the tree's own blocks, padded to the next multiple of four with copies of its first triangle. */
+/* Puts triangle t in slot `slot` of the tree's own blocks. */
+static void write_slot(lt__bvh8 *out, int slot, const lt_tri *t) {
+  lt_tri4 *b = &out->blocks[slot / 4];
+  const lt_float4 *v[3] = {&t->v0, &t->v1, &t->v2};
+  for (int j = 0; j < 3; j++)
+    b->v[3 * j][slot % 4] = v[j]->x, b->v[3 * j + 1][slot % 4] = v[j]->y, b->v[3 * j + 2][slot % 4] = v[j]->z;
+  b->prim[slot % 4] = lt_float_as_int(t->v0.w);
+}
+
+/* Copies a leaf's `count` triangles from position `first` to slots `at` onwards. */
 static void write_leaf(const collapser *c, int first, int count, int at) {
-  lt__bvh8 *out = c->out;
-  for (int i = 0; i < (count + 3) / 4 * 4; i++) {
-    lt_tri t = leaf_triangle(c, first, i < count ? i : 0);
-    lt_tri4 *b = &out->blocks[(at + i) / 4];
-    const lt_float4 *v[3] = {&t.v0, &t.v1, &t.v2};
-    for (int j = 0; j < 3; j++)
-      b->v[3 * j][i % 4] = v[j]->x, b->v[3 * j + 1][i % 4] = v[j]->y, b->v[3 * j + 2][i % 4] = v[j]->z;
-    b->prim[i % 4] = lt_float_as_int(t.v0.w);
+  for (int i = 0; i < count; i++) {
+    lt_tri t = leaf_triangle(c, first, i);
+    write_slot(c->out, at + i, &t);
   }
+}
+
+/* Closes the block that slot `slot` would open or continue: its lanes from there on get copies
+ * of its lane 0 (already written), so that no lane the vector test computes holds garbage
+ * (a denormal there would cost a microcode assist), though none of them is ever a hit. */
+static void close_block(collapser *c, int slot) {
+  if (!c->out || slot % 4 == 0) return;
+  lt_tri4 *b = &c->out->blocks[slot / 4];
+  for (int lane = slot % 4; lane < 4; lane++) {
+    for (int k = 0; k < 9; k++) b->v[k][lane] = b->v[k][0];
+    b->prim[lane] = b->prim[0];
+  }
+}
+
+/* The first slot of a leaf of `count` triangles, handed out so that blocks are shared: a leaf
+ * of at most four lies within one block, after whatever the block already holds if it fits
+ * there; a longer one starts a block. So the four-triangle test reads a leaf's triangles from
+ * as few blocks as before, and sibling leaves of one or two triangles share blocks instead of
+ * each padding its own (half the slots were padding on the house scenes). */
+static int leaf_slot(collapser *c, int count) {
+  int used = c->slots % 4;
+  if (used && (count > 4 || used + count > 4)) close_block(c, c->slots), c->slots += 4 - used;
+  int slot = c->slots;
+  c->slots += count;
+  return slot;
 }
 
 /* Makes the node holding the children of binary inner node `link` at `depth` (node 0 is at
@@ -60,8 +88,7 @@ static int collapse(collapser *c, int link, int depth, int *children) {
     }
     /* Empty lanes get the far point box and count 0; a leaf's triangles go to the next slots. */
     if (lane >= n || !lt__bvh_child_is_inner(&kids[lane])) {
-      int slot = c->slots;
-      if (lane < n) c->slots += (kids[lane].count + 3) / 4 * 4;
+      int slot = lane < n ? leaf_slot(c, kids[lane].count) : 0;
       if (!c->out) continue;
       if (lane >= n) {
         lt_box empty = LT_BVH8_EMPTY_LANE_BOX;
@@ -110,11 +137,14 @@ static lt_status append(collapser *c, lt__bvh8 *out, int link, int *root) {
   int children;
   c->out = NULL, c->next = out->node_count, c->slots = out->tri_slots;
   collapse(c, link, 1, &children);
+  c->slots = (c->slots + 3) / 4 * 4;
   lt_status status = reserve(out, c->next - out->node_count, c->slots - out->tri_slots);
   if (status) return status;
   memset(out->nodes + out->node_count, 0, (size_t)(c->next - out->node_count) * sizeof *out->nodes);
   c->out = out, c->next = out->node_count, c->slots = out->tri_slots;
   *root = collapse(c, link, 1, &children);
+  close_block(c, c->slots);
+  c->slots = (c->slots + 3) / 4 * 4;
   out->node_count = c->next;
   out->tri_slots = c->slots;
   return LT_OK;
