@@ -18,9 +18,9 @@
  * their numbers (lt_tri4, as Embree's Triangle4): block i holds slots 4i to 4i + 3, 40 bytes a
  * slot. A leaf of up to four triangles lies within one block, sharing it with its neighbours
  * in leaf order where they fit; a longer leaf starts a block; lanes no leaf holds are copies of
- * their block's lane 0, never tested. The watertight test runs on a block's four triangles in one vector pass
- * (traversal/bvh8_traverse.h); only its last steps, for a possible hit, run per triangle, on
- * the same block's lanes.
+ * their block's lane 0, never tested. The watertight test runs on a block's four triangles in
+ * one vector pass (traversal/bvh8_traverse.h); only its last steps, for a possible hit, run per
+ * triangle, on the same block's lanes.
  *
  * Node 0 holds the root's children. The traversal's stack holds children (first, count and
  * entry distance), not nodes, so no bits of an index are given up and the node count is
