@@ -19,14 +19,11 @@ typedef struct lt_bvh8_trace_view {
   X(BUF, lt_bvh8_node, nodes, nodes)    \
   X(BUF, lt_tri4, blocks, blocks)
 
-/* What lt_bvh8_trace_rays runs for a common ray: the traversal inlined for one query kind, or
- * (batches whose flags leave the common path: plain slabs, the fast test) none. */
-enum { LT_BVH8_TRACE_CLOSEST = 0, LT_BVH8_TRACE_ANY = 1, LT_BVH8_TRACE_OTHER = 2 };
-
 /* Rays [begin, end) of the batch, each prepared and traced, its hit written; 0, or -1 when a
  * traversal would overflow its stack. The common ray (valid, no zero direction component,
  * the batch's flags the default's but for the query) runs the traversal loop inlined here, for
- * the query kind `form`; any other takes lt_bvh8_traverse_with. */
+ * the query form `form` (lt_bvh8_query_form; none for LT_BVH8_QUERY_OTHER); any other ray
+ * takes lt_bvh8_traverse_with. */
 LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_trace_rays(const lt_bvh8_trace_view *v,
                                                                                    lt_i32 begin, lt_i32 end,
                                                                                    lt_trace_counters *c, int form) {
@@ -35,9 +32,9 @@ LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_trace_ra
     lt_ray_setup r;
     lt_bvh8_ray_prepare(v->batch.rays + 8 * (long)i, flags, &r);
     lt_hit_record hit = {r.tmax, 0.0f, 0.0f, -1};
-    if (form != LT_BVH8_TRACE_OTHER && __builtin_expect(!r.parallel, 1))
+    if (form != LT_BVH8_QUERY_OTHER && __builtin_expect(!r.parallel, 1))
       status |= lt_bvh8_traverse_query(v->nodes, v->blocks, &r, 0, &hit, c, LT_BVH8_COMMON, NULL, 0, NULL,
-                                       form == LT_BVH8_TRACE_ANY);
+                                       form == LT_BVH8_QUERY_ANY);
     else
       status |= lt_bvh8_traverse_with(v->nodes, v->blocks, &r, &hit, c, LT_BVH8_VECTOR);
     lt_trace_batch_put(&v->batch, i, hit);
@@ -49,23 +46,23 @@ LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_trace_ra
  * loop. One call a chunk where there were two a ray and a dispatch. */
 LT_BVH8_TARGET __attribute__((noinline)) static int lt_bvh8_trace_any(const lt_bvh8_trace_view *v, lt_i32 begin,
                                                                      lt_i32 end, lt_trace_counters *c) {
-  return lt_bvh8_trace_rays(v, begin, end, c, LT_BVH8_TRACE_ANY);
+  return lt_bvh8_trace_rays(v, begin, end, c, LT_BVH8_QUERY_ANY);
 }
 LT_BVH8_TARGET __attribute__((noinline)) static int lt_bvh8_trace_closest(const lt_bvh8_trace_view *v, lt_i32 begin,
                                                                          lt_i32 end, lt_trace_counters *c) {
-  return lt_bvh8_trace_rays(v, begin, end, c, LT_BVH8_TRACE_CLOSEST);
+  return lt_bvh8_trace_rays(v, begin, end, c, LT_BVH8_QUERY_CLOSEST);
 }
 LT_BVH8_TARGET __attribute__((noinline)) static int lt_bvh8_trace_other(const lt_bvh8_trace_view *v, lt_i32 begin,
                                                                        lt_i32 end, lt_trace_counters *c) {
-  return lt_bvh8_trace_rays(v, begin, end, c, LT_BVH8_TRACE_OTHER);
+  return lt_bvh8_trace_rays(v, begin, end, c, LT_BVH8_QUERY_OTHER);
 }
 
 /* The kernel's chunk of rays (kernels/trace_kernel_body.h, LT_TRACE_RANGE): baseline x86-64
  * code that picks one of the AVX2 functions above for the batch. */
 static inline int lt_bvh8_trace_range(const lt_bvh8_trace_view *v, lt_i32 begin, lt_i32 end, lt_trace_counters *c) {
-  int flags = v->batch.flags;
-  if (flags & (LT_QUERY_FLAG_PLAIN_SLABS | LT_QUERY_FLAG_FAST_TRIANGLES)) return lt_bvh8_trace_other(v, begin, end, c);
-  if (flags & LT_QUERY_FLAG_ANY) return lt_bvh8_trace_any(v, begin, end, c);
+  int form = lt_bvh8_query_form(v->batch.flags);
+  if (form == LT_BVH8_QUERY_OTHER) return lt_bvh8_trace_other(v, begin, end, c);
+  if (form == LT_BVH8_QUERY_ANY) return lt_bvh8_trace_any(v, begin, end, c);
   return lt_bvh8_trace_closest(v, begin, end, c);
 }
 

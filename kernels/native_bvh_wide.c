@@ -14,11 +14,9 @@
  * it to send rays down the fallback, the binary subtree. */
 int lt__bvh_wide_exit_limit = LT_BVH_RAY_STACK_SIZE;
 
-/* How a wide traversal is run: the dispatch of lt_bvh8_traverse_from, or the common ray's loop
- * for one kind of query inlined (the caller has checked that the ray is common). */
-enum { WIDE_DISPATCH, WIDE_ANY, WIDE_CLOSEST };
-
-/* lt__bvh_wide_trace's body, inlined in each entry. */
+/* lt__bvh_wide_trace's body, inlined in each entry: for LT_BVH8_QUERY_OTHER the dispatch of
+ * lt_bvh8_traverse_from, else the common ray's loop for that query form inlined (the caller
+ * has checked that the ray is common). */
 LT_BVH8_TARGET __attribute__((always_inline)) static inline int wide_trace(const lt_bvh_wide_view *w,
                                                                           const lt_ray_setup *r, lt_hit_record *hit,
                                                                           lt_i32 node, lt_i32 *stack, float *stack_t,
@@ -27,10 +25,10 @@ LT_BVH8_TARGET __attribute__((always_inline)) static inline int wide_trace(const
   lt_bvh8_item exits[LT_BVH_RAY_STACK_SIZE];
   int count = 0;
   int room = size - *sp < lt__bvh_wide_exit_limit ? size - *sp : lt__bvh_wide_exit_limit;
-  int status = form == WIDE_DISPATCH
+  int status = form == LT_BVH8_QUERY_OTHER
                    ? lt_bvh8_traverse_from(w->nodes, w->blocks, r, node, hit, c, LT_BVH8_VECTOR, exits, room, &count)
                    : lt_bvh8_traverse_query(w->nodes, w->blocks, r, node, hit, c, LT_BVH8_COMMON, exits, room, &count,
-                                            form == WIDE_ANY);
+                                            form == LT_BVH8_QUERY_ANY);
   if (status != 0) return 1;
 
   /* Far to near, so that the nearest exit is popped first (insertion sort: exits are few). */
@@ -48,7 +46,7 @@ LT_BVH8_TARGET __attribute__((noinline)) int lt__bvh_wide_trace(const lt_bvh_wid
                                                                 lt_hit_record *hit, lt_i32 node, lt_i32 *stack,
                                                                 float *stack_t, lt_i32 *sp, lt_i32 size,
                                                                 lt_trace_counters *c) {
-  return wide_trace(w, r, hit, node, stack, stack_t, sp, size, c, WIDE_DISPATCH);
+  return wide_trace(w, r, hit, node, stack, stack_t, sp, size, c, LT_BVH8_QUERY_OTHER);
 }
 
 /* lt__bvh_wide_start for one form. The binary traversal would box-test the root's box at the
@@ -63,7 +61,7 @@ LT_BVH8_TARGET __attribute__((always_inline)) static inline void wide_start(cons
   lt_hit_record hit = {q->r.tmax, 0.0f, 0.0f, -1};
   q->sp = 0, q->wait = -1, q->overflow = 0, q->cur = -1;
   if (q->r.valid) {
-    if (form != WIDE_DISPATCH && q->r.parallel) form = WIDE_DISPATCH; /* not a common ray */
+    if (q->r.parallel) form = LT_BVH8_QUERY_OTHER; /* not a common ray */
     if (wide_trace(w, &q->r, &hit, w->root, q->stack, q->stack_t, &q->sp, LT_BVH_RAY_STACK_SIZE, c, form) != 0)
       q->cur = 0; /* exits that would not fit: the binary tree from the super-root */
     else if (q->sp > 0 && !((flags & LT_QUERY_FLAG_ANY) && hit.prim >= 0))
@@ -75,21 +73,22 @@ LT_BVH8_TARGET __attribute__((always_inline)) static inline void wide_start(cons
 /* Each form compiled (and its registers allocated) for its own loop, as the plain 8-wide kernel's. */
 LT_BVH8_TARGET __attribute__((noinline)) static void wide_start_any(const lt_bvh_wide_view *w, const float *ray,
                                                                     int flags, lt_bvh_ray *q, lt_trace_counters *c) {
-  wide_start(w, ray, flags, q, c, WIDE_ANY);
+  wide_start(w, ray, flags, q, c, LT_BVH8_QUERY_ANY);
 }
 LT_BVH8_TARGET __attribute__((noinline)) static void wide_start_closest(const lt_bvh_wide_view *w, const float *ray,
                                                                         int flags, lt_bvh_ray *q,
                                                                         lt_trace_counters *c) {
-  wide_start(w, ray, flags, q, c, WIDE_CLOSEST);
+  wide_start(w, ray, flags, q, c, LT_BVH8_QUERY_CLOSEST);
 }
 LT_BVH8_TARGET __attribute__((noinline)) static void wide_start_other(const lt_bvh_wide_view *w, const float *ray,
                                                                       int flags, lt_bvh_ray *q, lt_trace_counters *c) {
-  wide_start(w, ray, flags, q, c, WIDE_DISPATCH);
+  wide_start(w, ray, flags, q, c, LT_BVH8_QUERY_OTHER);
 }
 
 void lt__bvh_wide_start(const lt_bvh_wide_view *w, const float *ray, int flags, lt_bvh_ray *q, lt_trace_counters *c) {
-  if (flags & (LT_QUERY_FLAG_PLAIN_SLABS | LT_QUERY_FLAG_FAST_TRIANGLES)) wide_start_other(w, ray, flags, q, c);
-  else if (flags & LT_QUERY_FLAG_ANY) wide_start_any(w, ray, flags, q, c);
+  int form = lt_bvh8_query_form(flags);
+  if (form == LT_BVH8_QUERY_OTHER) wide_start_other(w, ray, flags, q, c);
+  else if (form == LT_BVH8_QUERY_ANY) wide_start_any(w, ray, flags, q, c);
   else wide_start_closest(w, ray, flags, q, c);
 }
 #endif

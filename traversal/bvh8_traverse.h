@@ -51,6 +51,15 @@
 #define LT_BVH8_VECTOR 1
 #define LT_BVH8_COMMON 2
 
+/* Which loop a query's flags give a common ray (valid, no zero direction component): the
+ * any-hit or the closest-hit one, or, for flags that leave the common path (plain slabs, the
+ * fast test), neither. Every caller that compiles a loop per kind dispatches by this. */
+enum { LT_BVH8_QUERY_CLOSEST = 0, LT_BVH8_QUERY_ANY = 1, LT_BVH8_QUERY_OTHER = 2 };
+static inline int lt_bvh8_query_form(int flags) {
+  if (flags & (LT_QUERY_FLAG_PLAIN_SLABS | LT_QUERY_FLAG_FAST_TRIANGLES)) return LT_BVH8_QUERY_OTHER;
+  return flags & LT_QUERY_FLAG_ANY ? LT_BVH8_QUERY_ANY : LT_BVH8_QUERY_CLOSEST;
+}
+
 /* A pending child: what its link says, and where the ray enters its box. Each visit pushes at
  * most seven (the eighth goes on at once) and the tree has at most LT_BVH_MAX_DEPTH (64)
  * levels, so 7 * 64 entries never overflow; the check stays and reports. */
@@ -496,9 +505,10 @@ LT_BVH8_TARGET __attribute__((noinline, unused)) static int lt_bvh8_traverse_clo
 }
 
 LT_BVH8_TARGET static inline int lt_bvh8_traverse_from(LT_BVH8_TRAVERSE_PARAMS) {
-  int other = LT_QUERY_FLAG_PLAIN_SLABS | LT_QUERY_FLAG_FAST_TRIANGLES;
-  if (vector == LT_BVH8_PLAIN || r->parallel || (r->flags & other)) return lt_bvh8_traverse_rare(LT_BVH8_TRAVERSE_ARGS);
-  if (r->flags & LT_QUERY_FLAG_ANY) return lt_bvh8_traverse_any(LT_BVH8_TRAVERSE_ARGS);
+  int form = lt_bvh8_query_form(r->flags);
+  if (vector == LT_BVH8_PLAIN || r->parallel || form == LT_BVH8_QUERY_OTHER)
+    return lt_bvh8_traverse_rare(LT_BVH8_TRAVERSE_ARGS);
+  if (form == LT_BVH8_QUERY_ANY) return lt_bvh8_traverse_any(LT_BVH8_TRAVERSE_ARGS);
   return lt_bvh8_traverse_closest(LT_BVH8_TRAVERSE_ARGS);
 }
 
