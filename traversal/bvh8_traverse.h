@@ -244,9 +244,18 @@ LT_BVH8_TARGET static inline void lt_bvh8_triangle(const lt_ray_setup *r, const 
  * order as lt_hit_distance_checked, lt_clamp_to_box and lt_ray_slabs' vector form (minps and
  * maxps are their ternaries, the sums run in their order from 0), so the hit is theirs bit for
  * bit; test_qbvh8 compares the two on every lane. In scalar form these steps were about a
- * sixth of an AO ray's instructions (nearly every AO ray ends on a hit). */
+ * sixth of an AO ray's instructions (nearly every AO ray ends on a hit).
+ *
+ * An any-hit query asks only whether the hit is recorded, and the distance that decides it
+ * always ends inside the stretch [near, far] of the ray within the triangle's box (the clamp;
+ * NaN only when that stretch is empty, or when both the distance in double and the scaled one
+ * are unusable). So when near <= far lies within [tmin, tmax], no best hit is held yet and the
+ * scaled distance is a number, the hit is recorded whatever the double steps would give: they
+ * are skipped, and the hit keeps the scaled distance, clamped. The decision is the one-triangle
+ * test's bit for bit; only the distance an any-hit query reports may differ in its last bits. */
 LT_BVH8_TARGET static inline int lt_bvh8_finish(const lt_ray_setup *r, const lt_tri4 *block, int lane, float u,
-                                                float v, float w, float t_scaled, lt_hit_record *hit) {
+                                                float v, float w, float t_scaled, int any_hit,
+                                                lt_hit_record *hit) {
   float det = u + v + w;
   if (det == 0.0f) return 0;
   float inv_det = 1.0f / det, t = t_scaled * inv_det;
@@ -257,7 +266,7 @@ LT_BVH8_TARGET static inline int lt_bvh8_finish(const lt_ray_setup *r, const lt_
   __m128 b = _mm_setr_ps(rows[3][lane], rows[4][lane], rows[5][lane], 0.0f);
   __m128 c = _mm_setr_ps(rows[6][lane], rows[7][lane], rows[8][lane], 0.0f);
 
-  /* The plane's normal, the edges' cross product (none: no area, never hit), and the distance. */
+  /* The plane's normal, the edges' cross product (none: no area, never hit). */
   __m256d a_d = _mm256_cvtps_pd(a), e1 = _mm256_sub_pd(_mm256_cvtps_pd(b), a_d),
           e2 = _mm256_sub_pd(_mm256_cvtps_pd(c), a_d);
   __m256d n = _mm256_sub_pd(_mm256_mul_pd(_mm256_permute4x64_pd(e1, _MM_SHUFFLE(3, 0, 2, 1)),
@@ -265,17 +274,8 @@ LT_BVH8_TARGET static inline int lt_bvh8_finish(const lt_ray_setup *r, const lt_
                             _mm256_mul_pd(_mm256_permute4x64_pd(e1, _MM_SHUFFLE(3, 1, 0, 2)),
                                           _mm256_permute4x64_pd(e2, _MM_SHUFFLE(3, 0, 2, 1))));
   if ((_mm256_movemask_pd(_mm256_cmp_pd(n, _mm256_setzero_pd(), _CMP_EQ_OQ)) & 7) == 7) return 0;
-  __m256d to_plane = _mm256_mul_pd(n, _mm256_sub_pd(a_d, _mm256_cvtps_pd((__m128)r->org4)));
-  __m256d along = _mm256_mul_pd(n, _mm256_cvtps_pd(_mm_setr_ps(r->dir[0], r->dir[1], r->dir[2], 0.0f)));
-  double p[4], d[4];
-  _mm256_storeu_pd(p, to_plane), _mm256_storeu_pd(d, along);
-  double num = 0.0 + p[0], den = 0.0 + d[0];
-  num += p[1], den += d[1];
-  num += p[2], den += d[2];
-  double plane = num / den;
-  if (den != 0.0 && plane == plane && plane < 3.0e38 && plane > -3.0e38) t = (float)plane;
 
-  /* Into the stretch of the ray inside the triangle's box (lt_clamp_to_box). */
+  /* The stretch of the ray inside the triangle's box (lt_clamp_to_box). */
   __m128 lo = _mm_min_ps(c, _mm_min_ps(a, b)), hi = _mm_max_ps(c, _mm_max_ps(a, b));
   __m128 org = (__m128)r->org4, inv = (__m128)r->inv4;
   __m128 t0 = _mm_mul_ps(_mm_sub_ps(lo, org), inv), t1 = _mm_mul_ps(_mm_sub_ps(hi, org), inv);
@@ -287,6 +287,23 @@ LT_BVH8_TARGET static inline int lt_bvh8_finish(const lt_ray_setup *r, const lt_
   near_v = _mm_max_ss(_mm_shuffle_ps(t_lo, t_lo, 2), near_v), far_v = _mm_min_ss(_mm_shuffle_ps(t_hi, t_hi, 2), far_v);
   float near_t = _mm_cvtss_f32(near_v), far_t = _mm_cvtss_f32(far_v);
   far_t += lt_fabsf(far_t) * LT_SLAB_ROUNDING_EPS;
+  /* The clamped distance lies in [near, far] (or is NaN): a stretch wholly before tmin or after
+   * tmax, or behind a best hit, is no hit, whatever the distance. An AO ray's own triangle, in
+   * a flat box behind its origin, ends here. */
+  if (far_t < r->tmin || near_t > r->tmax || (hit->prim >= 0 && near_t > hit->t)) return 0;
+
+  /* The distance from the plane, in double, unless the stretch alone decides (above). */
+  if (!(any_hit && hit->prim < 0 && near_t <= far_t && near_t >= r->tmin && far_t <= r->tmax && t == t)) {
+    __m256d to_plane = _mm256_mul_pd(n, _mm256_sub_pd(a_d, _mm256_cvtps_pd((__m128)r->org4)));
+    __m256d along = _mm256_mul_pd(n, _mm256_cvtps_pd(_mm_setr_ps(r->dir[0], r->dir[1], r->dir[2], 0.0f)));
+    double p[4], d[4];
+    _mm256_storeu_pd(p, to_plane), _mm256_storeu_pd(d, along);
+    double num = 0.0 + p[0], den = 0.0 + d[0];
+    num += p[1], den += d[1];
+    num += p[2], den += d[2];
+    double plane = num / den;
+    if (den != 0.0 && plane == plane && plane < 3.0e38 && plane > -3.0e38) t = (float)plane;
+  }
   t = !(near_t <= far_t) ? NAN : t < near_t ? near_t : t > far_t ? far_t : t;
   return lt_record_hit(r, t, v * inv_det, w * inv_det, block->prim[lane], hit);
 }
@@ -309,7 +326,7 @@ LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_tri4_wat
     if (l.zeros >> lane & 1) {
       lt_bvh8_triangle(r, b, lane, hit);
     } else if (common || !r->parallel) {
-      lt_bvh8_finish(r, b, lane, l.u[lane], l.v[lane], l.w[lane], l.t_scaled[lane], hit);
+      lt_bvh8_finish(r, b, lane, l.u[lane], l.v[lane], l.w[lane], l.t_scaled[lane], any_hit, hit);
     } else {
       float v0[3], v1[3], v2[3];
       lt_bvh8_block_vertices(b, lane, v0, v1, v2);
