@@ -27,6 +27,8 @@ typedef struct lt_od_args {
   lt_float4 root_lo, root_hi; /* the scene's bounds, for the set-up launch */
 #if LT_BVH_WIDE
   const lt_bvh_wide_view *wide; /* native only, not a kernel argument: the wide subtrees */
+  lt_i32 answered;              /* native only: rays i with i % answered == 0 already hold their
+                                   answer in hits (a sample traced before); 0: none */
 #endif
 } lt_od_args;
 
@@ -54,9 +56,16 @@ LT_DEVICE lt_bvh_view lt_od_view(const lt_od_args *a) {
 }
 
 /* Starts ray i: natively, where the launch has a wide tree, the ray crosses it at once
- * (lt__bvh_wide_start), and only a ray left at an exit goes on in the binary traversal. */
+ * (lt__bvh_wide_start), and only a ray left at an exit goes on in the binary traversal; a ray
+ * of a sample answered before this launch is done at once. */
 LT_DEVICE void lt_od_start(const lt_od_args *a, lt_bvh_ray *q, lt_i32 i, lt_trace_counters *c) {
 #if LT_BVH_WIDE
+  if (a->answered > 0 && i % a->answered == 0) {
+    /* Done already: its answer stays as it is (the loop writes it back). */
+    q->hit = a->hits[i];
+    q->sp = 0, q->wait = -1, q->overflow = 0, q->cur = -1;
+    return;
+  }
   if (a->wide && a->wide->root >= 0) {
     lt__bvh_wide_start(a->wide, a->rays + 8 * (long)i, a->flags, q, c);
     return;

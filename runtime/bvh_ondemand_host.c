@@ -18,7 +18,7 @@
 int lt__ondemand_slab_count = 64;
 
 static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, int count, int flags, int speculate,
-                        int setup);
+                        int setup, int answered);
 static lt_status read_counters(lt__ondemand *od, lt_stats *stats, int traversal);
 
 /* A per-frame array that a scene rebuilt every frame would otherwise fault in again every frame:
@@ -122,7 +122,7 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
   lt__buffer none;
   if (!status) status = lt__buffer_create(ctx, &none, 16, NULL, 0);
   if (!status) {
-    status = launch(od, &none, &none, 0, 0, 0, 1);
+    status = launch(od, &none, &none, 0, 0, 0, 1, 0);
     lt__buffer_release(&none);
   }
   if (!status) status = lt__pool_end_launch(&od->pool, NULL); /* a full pool, said as such */
@@ -151,6 +151,7 @@ LT__KERNEL_ARGS(od_args, LT_OD_ARGS, lt_od_args)
 typedef struct od_launch_args {
   od_args args;
   const void *wide; /* an lt_bvh_wide_view, or NULL */
+  int answered;     /* the stride of the rays whose hits are in already, or 0 */
 } od_launch_args;
 
 static void od_view_any(const void *launch_args, void *view) {
@@ -158,15 +159,16 @@ static void od_view_any(const void *launch_args, void *view) {
   od_args_view(&l->args, view);
 #if LT_BVH_WIDE
   ((lt_od_args *)view)->wide = l->wide;
+  ((lt_od_args *)view)->answered = l->answered;
 #endif
 }
 
 /* One launch on either backend: the set-up launch (work-group 0 makes the root) or the persistent loop
  * over `count` rays (exactly as many work-groups as run at once: they wait on each other). */
 static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, int count, int flags, int speculate,
-                        int setup) {
+                        int setup, int answered) {
   lt_context *ctx = od->ctx;
-  od_launch_args launch_args = {.wide = NULL};
+  od_launch_args launch_args = {.wide = NULL, .answered = answered};
   od_args args;
   LT__POOL_HOST_ARGS(&args, &od->pool);
   LT__HEAP_HOST_ARGS(&args, node_heap, &od->node_heap);
@@ -227,9 +229,10 @@ static lt_status read_counters(lt__ondemand *od, lt_stats *stats, int traversal)
   return lt__buffer_fill(ctx, &od->counters, 0);
 }
 
-/* One launch over the batch; `traversal`: whether its node visits and triangle tests count. */
+/* One launch over the batch; `traversal`: whether its node visits and triangle tests count;
+ * `answered`: natively, the stride of the rays whose hits are in already (0: none). */
 static lt_status launch_batch(lt__ondemand *od, const lt_ray *rays, int count, int flags, lt_hit *hits,
-                              int speculate, lt_stats *stats, int traversal) {
+                              int speculate, lt_stats *stats, int traversal, int answered) {
   lt_context *ctx = od->ctx;
   lt__buffer ray_buf, hit_buf;
   /* Before rays are traced again, what the last launches finished becomes wide (counted in
@@ -240,7 +243,7 @@ static lt_status launch_batch(lt__ondemand *od, const lt_ray *rays, int count, i
   status = lt__batch_buffers_begin(ctx, &ray_buf, &hit_buf, rays, count, hits);
   if (status) return status;
   status = lt__pool_begin_launch(&od->pool);
-  if (!status) status = launch(od, &ray_buf, &hit_buf, count, flags, speculate, 0);
+  if (!status) status = launch(od, &ray_buf, &hit_buf, count, flags, speculate, 0, answered);
   if (!status) status = lt__pool_end_launch(&od->pool, stats);
   status = lt__batch_buffers_end(ctx, &ray_buf, &hit_buf, hits, count, status);
   if (!status) status = read_counters(od, stats, traversal);
@@ -250,19 +253,21 @@ static lt_status launch_batch(lt__ondemand *od, const lt_ray *rays, int count, i
 lt_status lt__ondemand_launch(lt__ondemand *od, const lt_ray *rays, int count, int flags, lt_hit *hits,
                               int speculate, lt_stats *stats) {
   int stride = od->wide_on && !od->wide_hold ? lt__ondemand_wide_sample(od->wide_stride, count) : 0;
-  if (stride == 0) return launch_batch(od, rays, count, flags, hits, speculate, stats, 1);
+  if (stride == 0) return launch_batch(od, rays, count, flags, hits, speculate, stats, 1, 0);
   /* Every stride-th ray first: it has the pool build most of what the batch needs, which the
    * whole batch's launch then crosses on the wide layout (runtime/bvh_wide_host.c). The
-   * sample's rays are traced again there; only that second trace's visits count. */
+   * sample's answers go straight into hits (the native backend's launch writes the caller's
+   * array), and the batch's launch skips those rays instead of tracing them again. */
   size_t n = ((size_t)count + (size_t)stride - 1) / (size_t)stride; /* count >= 1024 * stride, stride > 1 */
   lt_ray *sample = malloc(n * sizeof *sample);
   lt_hit *sample_hits = malloc(n * sizeof *sample_hits);
   lt_status status = sample && sample_hits ? LT_OK : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a ray sample");
   for (size_t i = 0; !status && i < n; i++) sample[i] = rays[i * (size_t)stride];
-  if (!status) status = launch_batch(od, sample, (int)n, flags, sample_hits, speculate, stats, 0);
+  if (!status) status = launch_batch(od, sample, (int)n, flags, sample_hits, speculate, stats, 1, 0);
+  for (size_t i = 0; !status && i < n; i++) hits[i * (size_t)stride] = sample_hits[i];
   free(sample);
   free(sample_hits);
-  return status ? status : launch_batch(od, rays, count, flags, hits, speculate, stats, 1);
+  return status ? status : launch_batch(od, rays, count, flags, hits, speculate, stats, 1, stride);
 }
 
 int lt__ondemand_heap_full(lt__ondemand *od) {

@@ -37,9 +37,10 @@ typedef struct lt__ondemand {
  * on demand, a CPU with AVX2, and not LT_BVH_WIDE=0 in the environment (the switch that
  * measures binary against wide traversal). */
 int lt__ondemand_wide_wanted(const lt_context *ctx, int pool_mode);
-/* The stride of the ray sample traced before each batch (so that the batch runs on a tree
- * collapsed after the sample's builds): LT_BVH_WIDE_SAMPLE (default 16; 0 turns it off), read
- * once when a tree is made, as LT_BVH_WIDE is. */
+/* The stride of the ray sample traced before each batch (so that the rest of the batch runs
+ * on a tree collapsed after the sample's builds; the sample's rays are not traced again):
+ * LT_BVH_WIDE_SAMPLE (default 16; 0 turns it off), read once when a tree is made, as
+ * LT_BVH_WIDE is. */
 int lt__ondemand_wide_stride(void);
 /* That stride for a batch of `count` rays, or 0 for none (none for batches under 1024 samples). */
 int lt__ondemand_wide_sample(int stride, int count);

@@ -225,7 +225,8 @@ static void ondemand_wide_memory_is_counted(void **state) {
 }
 
 /* A batch large enough is traced in two launches (runtime/bvh_ondemand_host.c): every second
- * ray first, then the whole batch on the tree collapsed in between. The first trace on a new
+ * ray first, then the others on the tree collapsed in between, the sample's answers kept (the
+ * hits start as garbage, so a ray answered by neither launch shows). The first trace on a new
  * tree then makes one collapse (none with the sample off), and its hits are brute force's. */
 static void ondemand_wide_first_launch_runs_after_a_sample(void **state) {
   (void)state;
