@@ -76,6 +76,8 @@ LT_DEVICE void lt_od_start(const lt_od_args *a, lt_bvh_ray *q, lt_i32 i, lt_trac
 }
 
 LT_DEVICE int lt_od_advance(const lt_od_args *a, lt_bvh_ray *q, lt_trace_counters *c) {
+  /* Done in its start (most rays on a wide tree): nothing to advance. */
+  if (q->cur == -1) return 1;
   lt_bvh_view v = lt_od_view(a);
   return lt_bvh_advance_ondemand(&v, q, a->flags, c);
 }
