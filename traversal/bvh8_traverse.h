@@ -266,6 +266,25 @@ LT_BVH8_TARGET static inline int lt_bvh8_finish(const lt_ray_setup *r, const lt_
   __m128 b = _mm_setr_ps(rows[3][lane], rows[4][lane], rows[5][lane], 0.0f);
   __m128 c = _mm_setr_ps(rows[6][lane], rows[7][lane], rows[8][lane], 0.0f);
 
+  /* The stretch of the ray inside the triangle's box (lt_clamp_to_box). */
+  __m128 lo = _mm_min_ps(c, _mm_min_ps(a, b)), hi = _mm_max_ps(c, _mm_max_ps(a, b));
+  __m128 org = (__m128)r->org4, inv = (__m128)r->inv4;
+  __m128 t0 = _mm_mul_ps(_mm_sub_ps(lo, org), inv), t1 = _mm_mul_ps(_mm_sub_ps(hi, org), inv);
+  __m128 t_lo = _mm_min_ps(t0, t1), t_hi = _mm_max_ps(t1, t0);
+  /* lt_ray_slabs' per-axis steps in lane 0: near = l > near ? l : near is maxss(l, near), and
+   * far = h < far ? h : far is minss(h, far), axis by axis. lt_ray_slabs starts from [-inf,
+   * +inf], which the first axis' distances replace as they are: they are never NaN (finite
+   * planes and origin, a finite non-zero 1/d on this path). */
+  __m128 near_v = t_lo, far_v = t_hi;
+  near_v = _mm_max_ss(_mm_shuffle_ps(t_lo, t_lo, 1), near_v), far_v = _mm_min_ss(_mm_shuffle_ps(t_hi, t_hi, 1), far_v);
+  near_v = _mm_max_ss(_mm_shuffle_ps(t_lo, t_lo, 2), near_v), far_v = _mm_min_ss(_mm_shuffle_ps(t_hi, t_hi, 2), far_v);
+  float near_t = _mm_cvtss_f32(near_v), far_t = _mm_cvtss_f32(far_v);
+  far_t += lt_fabsf(far_t) * LT_SLAB_ROUNDING_EPS;
+  /* The clamped distance lies in [near, far] (or is NaN): a stretch wholly before tmin or after
+   * tmax, or behind a best hit, is no hit, whatever the distance. An AO ray's own triangle, in
+   * a flat box behind its origin, ends here, before the double steps. */
+  if (far_t < r->tmin || near_t > r->tmax || (hit->prim >= 0 && near_t > hit->t)) return 0;
+
   /* The plane's normal, the edges' cross product (none: no area, never hit). */
   __m256d a_d = _mm256_cvtps_pd(a), e1 = _mm256_sub_pd(_mm256_cvtps_pd(b), a_d),
           e2 = _mm256_sub_pd(_mm256_cvtps_pd(c), a_d);
@@ -274,23 +293,6 @@ LT_BVH8_TARGET static inline int lt_bvh8_finish(const lt_ray_setup *r, const lt_
                             _mm256_mul_pd(_mm256_permute4x64_pd(e1, _MM_SHUFFLE(3, 1, 0, 2)),
                                           _mm256_permute4x64_pd(e2, _MM_SHUFFLE(3, 0, 2, 1))));
   if ((_mm256_movemask_pd(_mm256_cmp_pd(n, _mm256_setzero_pd(), _CMP_EQ_OQ)) & 7) == 7) return 0;
-
-  /* The stretch of the ray inside the triangle's box (lt_clamp_to_box). */
-  __m128 lo = _mm_min_ps(c, _mm_min_ps(a, b)), hi = _mm_max_ps(c, _mm_max_ps(a, b));
-  __m128 org = (__m128)r->org4, inv = (__m128)r->inv4;
-  __m128 t0 = _mm_mul_ps(_mm_sub_ps(lo, org), inv), t1 = _mm_mul_ps(_mm_sub_ps(hi, org), inv);
-  __m128 t_lo = _mm_min_ps(t0, t1), t_hi = _mm_max_ps(t1, t0);
-  /* lt_ray_slabs' per-axis steps in lane 0: near = l > near ? l : near is maxss(l, near), and
-   * far = h < far ? h : far is minss(h, far), from [-inf, +inf], axis by axis. */
-  __m128 near_v = _mm_max_ss(t_lo, _mm_set_ss(-INFINITY)), far_v = _mm_min_ss(t_hi, _mm_set_ss(INFINITY));
-  near_v = _mm_max_ss(_mm_shuffle_ps(t_lo, t_lo, 1), near_v), far_v = _mm_min_ss(_mm_shuffle_ps(t_hi, t_hi, 1), far_v);
-  near_v = _mm_max_ss(_mm_shuffle_ps(t_lo, t_lo, 2), near_v), far_v = _mm_min_ss(_mm_shuffle_ps(t_hi, t_hi, 2), far_v);
-  float near_t = _mm_cvtss_f32(near_v), far_t = _mm_cvtss_f32(far_v);
-  far_t += lt_fabsf(far_t) * LT_SLAB_ROUNDING_EPS;
-  /* The clamped distance lies in [near, far] (or is NaN): a stretch wholly before tmin or after
-   * tmax, or behind a best hit, is no hit, whatever the distance. An AO ray's own triangle, in
-   * a flat box behind its origin, ends here. */
-  if (far_t < r->tmin || near_t > r->tmax || (hit->prim >= 0 && near_t > hit->t)) return 0;
 
   /* The distance from the plane, in double, unless the stretch alone decides (above). */
   if (!(any_hit && hit->prim < 0 && near_t <= far_t && near_t >= r->tmin && far_t <= r->tmax && t == t)) {
