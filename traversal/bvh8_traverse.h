@@ -112,6 +112,10 @@ _Static_assert(offsetof(lt_ray_setup, dir) == offsetof(lt_ray_setup, org) + 12 &
                    offsetof(lt_ray_setup, inv_dir) == offsetof(lt_ray_setup, org) + 24 &&
                    offsetof(lt_ray_setup, tmin) == offsetof(lt_ray_setup, org) + 36,
                "lt_ray_setup: org, dir, inv_dir and tmin follow each other");
+_Static_assert(offsetof(lt_ray_setup, sy) == offsetof(lt_ray_setup, sx) + 4 &&
+                   offsetof(lt_ray_setup, sz) == offsetof(lt_ray_setup, sx) + 8 &&
+                   offsetof(lt_ray_setup, valid) == offsetof(lt_ray_setup, sx) + 12,
+               "lt_ray_setup: sx, sy, sz and valid follow each other");
 
 /* lt_ray_prepare for the 8-wide kernel, from a ray in the ray file's layout (origin, tmin,
  * direction, tmax): the same lt_ray_setup field for field, bit for bit (the tests compare
@@ -152,11 +156,15 @@ LT_BVH8_TARGET static inline void lt_bvh8_ray_prepare(const float *ray, int flag
   int bits = _mm_movemask_ps(_mm_cmpgt_ps(a, b)) & 7;
   int kz = 0x192a >> (2 * bits) & 3, kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
   int negative = _mm_movemask_ps(_mm_cmplt_ps(d, zero)) >> kz & 1;
-  r->kz = kz, r->kx = negative ? ky : kx, r->ky = negative ? kx : ky;
-  float dkz = r->valid ? r->dir[kz] : 1.0f;
-  r->sx = r->dir[r->kx] / dkz;
-  r->sy = r->dir[r->ky] / dkz;
-  r->sz = 1.0f / dkz;
+  int sx_axis = negative ? ky : kx, sy_axis = negative ? kx : ky;
+  r->kz = kz, r->kx = sx_axis, r->ky = sy_axis;
+  /* sx = dir[kx] / dkz, sy = dir[ky] / dkz, sz = 1 / dkz as one vector division (each lane
+   * rounded as the scalar one), stored over sx, sy, sz and valid, which is written again. */
+  int valid = r->valid;
+  __m128 dkz = valid ? _mm_permutevar_ps(d, _mm_set1_epi32(kz)) : _mm_set1_ps(1.0f);
+  __m128 num = _mm_blend_ps(_mm_permutevar_ps(d, _mm_setr_epi32(sx_axis, sy_axis, 0, 0)), _mm_set1_ps(1.0f), 12);
+  _mm_storeu_ps(&r->sx, _mm_div_ps(num, dkz));
+  r->valid = valid;
 }
 
 /* One bit per lane that holds a child (count != 0). The vector test does without it: an empty
