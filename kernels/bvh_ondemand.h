@@ -63,7 +63,7 @@ LT_DEVICE void lt_od_start(const lt_od_args *a, lt_bvh_ray *q, lt_i32 i, lt_trac
   if (a->answered > 0 && i % a->answered == 0) {
     /* Done already: its answer stays as it is (the loop writes it back). */
     q->hit = a->hits[i];
-    q->sp = 0, q->wait = -1, q->overflow = 0, q->cur = -1;
+    lt_bvh_ray_reset(q, -1);
     return;
   }
   if (a->wide && a->wide->root >= 0) {

@@ -59,7 +59,7 @@ LT_BVH8_TARGET __attribute__((always_inline)) static inline void wide_start(cons
                                                                            int form) {
   lt_bvh8_ray_prepare(ray, flags, &q->r);
   lt_hit_record hit = {q->r.tmax, 0.0f, 0.0f, -1};
-  q->sp = 0, q->wait = -1, q->overflow = 0, q->cur = -1;
+  lt_bvh_ray_reset(q, -1);
   if (q->r.valid) {
     if (q->r.parallel) form = LT_BVH8_QUERY_OTHER; /* not a common ray */
     if (wide_trace(w, &q->r, &hit, w->root, q->stack, q->stack_t, &q->sp, LT_BVH_RAY_STACK_SIZE, c, form) != 0)

@@ -19,7 +19,7 @@ int lt__ondemand_slab_count = 64;
 
 static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, int count, int flags, int speculate,
                         int setup, int answered);
-static lt_status read_counters(lt__ondemand *od, lt_stats *stats, int traversal);
+static lt_status read_counters(lt__ondemand *od, lt_stats *stats);
 
 /* A per-frame array that a scene rebuilt every frame would otherwise fault in again every frame:
  * on native, host memory kept on the context (taken here, given back at release); on OpenCL a
@@ -126,7 +126,7 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
     lt__buffer_release(&none);
   }
   if (!status) status = lt__pool_end_launch(&od->pool, NULL); /* a full pool, said as such */
-  if (!status) status = read_counters(od, NULL, 1);
+  if (!status) status = read_counters(od, NULL);
   if (status) lt__ondemand_release(od);
   return status;
 }
@@ -205,7 +205,7 @@ static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, in
 
 /* Adds the launch's build and traversal counters, summed over the work-groups, to stats and
  * to the tree's totals, and clears them for the next launch. */
-static lt_status read_counters(lt__ondemand *od, lt_stats *stats, int traversal) {
+static lt_status read_counters(lt__ondemand *od, lt_stats *stats) {
   static const int stat_of[LT_BVH_STAT_COUNT] = {
 #define LT_BVH_STAT_TARGET(id, stat) stat,
       LT_BVH_STAT_LIST(LT_BVH_STAT_TARGET)
@@ -222,17 +222,15 @@ static lt_status read_counters(lt__ondemand *od, lt_stats *stats, int traversal)
   if (status) return status;
   od->leaves += sum[LT_BVH_STAT_LEAVES];
   od->sort_ops += sum[LT_BVH_STAT_SORT_OPS];
-  for (int k = 0; k < LT_BVH_STAT_COUNT; k++) {
-    int visits = k == LT_BVH_STAT_STEPS || k == LT_BVH_STAT_TESTS;
-    if (stat_of[k] != LT_STAT_NONE && (traversal || !visits)) lt__stats_add(stats, (lt_stat_id)stat_of[k], sum[k]);
-  }
+  for (int k = 0; k < LT_BVH_STAT_COUNT; k++)
+    if (stat_of[k] != LT_STAT_NONE) lt__stats_add(stats, (lt_stat_id)stat_of[k], sum[k]);
   return lt__buffer_fill(ctx, &od->counters, 0);
 }
 
-/* One launch over the batch; `traversal`: whether its node visits and triangle tests count;
- * `answered`: natively, the stride of the rays whose hits are in already (0: none). */
+/* One launch over the batch (its counters all count); `answered`: natively, the stride of the
+ * rays whose hits are in already (0: none). */
 static lt_status launch_batch(lt__ondemand *od, const lt_ray *rays, int count, int flags, lt_hit *hits,
-                              int speculate, lt_stats *stats, int traversal, int answered) {
+                              int speculate, lt_stats *stats, int answered) {
   lt_context *ctx = od->ctx;
   lt__buffer ray_buf, hit_buf;
   /* Before rays are traced again, what the last launches finished becomes wide (counted in
@@ -246,14 +244,14 @@ static lt_status launch_batch(lt__ondemand *od, const lt_ray *rays, int count, i
   if (!status) status = launch(od, &ray_buf, &hit_buf, count, flags, speculate, 0, answered);
   if (!status) status = lt__pool_end_launch(&od->pool, stats);
   status = lt__batch_buffers_end(ctx, &ray_buf, &hit_buf, hits, count, status);
-  if (!status) status = read_counters(od, stats, traversal);
+  if (!status) status = read_counters(od, stats);
   return status;
 }
 
 lt_status lt__ondemand_launch(lt__ondemand *od, const lt_ray *rays, int count, int flags, lt_hit *hits,
                               int speculate, lt_stats *stats) {
   int stride = od->wide_on && !od->wide_hold ? lt__ondemand_wide_sample(od->wide_stride, count) : 0;
-  if (stride == 0) return launch_batch(od, rays, count, flags, hits, speculate, stats, 1, 0);
+  if (stride == 0) return launch_batch(od, rays, count, flags, hits, speculate, stats, 0);
   /* Every stride-th ray first: it has the pool build most of what the batch needs, which the
    * whole batch's launch then crosses on the wide layout (runtime/bvh_wide_host.c). The
    * sample's answers go straight into hits (the native backend's launch writes the caller's
@@ -263,11 +261,11 @@ lt_status lt__ondemand_launch(lt__ondemand *od, const lt_ray *rays, int count, i
   lt_hit *sample_hits = malloc(n * sizeof *sample_hits);
   lt_status status = sample && sample_hits ? LT_OK : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a ray sample");
   for (size_t i = 0; !status && i < n; i++) sample[i] = rays[i * (size_t)stride];
-  if (!status) status = launch_batch(od, sample, (int)n, flags, sample_hits, speculate, stats, 1, 0);
+  if (!status) status = launch_batch(od, sample, (int)n, flags, sample_hits, speculate, stats, 0);
   for (size_t i = 0; !status && i < n; i++) hits[i * (size_t)stride] = sample_hits[i];
   free(sample);
   free(sample_hits);
-  return status ? status : launch_batch(od, rays, count, flags, hits, speculate, stats, 1, stride);
+  return status ? status : launch_batch(od, rays, count, flags, hits, speculate, stats, stride);
 }
 
 int lt__ondemand_heap_full(lt__ondemand *od) {

@@ -64,12 +64,15 @@ typedef struct lt_bvh_ray {
   lt_i32 overflow; /* the stack would have overflowed: the answer is not to be trusted */
 } lt_bvh_ray;
 
+/* A ray's traversal state as it starts: an empty stack, waiting for nothing, next node `cur`
+ * (-1: done). */
+LT_DEVICE void lt_bvh_ray_reset(lt_bvh_ray *q, lt_i32 cur) { q->sp = 0, q->wait = -1, q->overflow = 0, q->cur = cur; }
+
 /* Starts a ray given in the ray file's layout (8 floats). */
 LT_DEVICE void lt_bvh_ray_start(lt_bvh_ray *q, LT_GLOBAL const float *ray) {
   q->r = lt_ray_prepare(ray[0], ray[1], ray[2], ray[3], ray[4], ray[5], ray[6], ray[7]);
   q->hit.t = q->r.tmax, q->hit.u = q->hit.v = 0.0f, q->hit.prim = -1;
-  q->sp = 0, q->wait = -1, q->overflow = 0;
-  q->cur = q->r.valid ? 0 : -1;
+  lt_bvh_ray_reset(q, q->r.valid ? 0 : -1);
 }
 
 #if LT_BVH_WIDE
