@@ -60,15 +60,25 @@ static inline int lt_bvh8_query_form(int flags) {
   return flags & LT_QUERY_FLAG_ANY ? LT_BVH8_QUERY_ANY : LT_BVH8_QUERY_CLOSEST;
 }
 
-/* A pending child: what its link says, and where the ray enters its box (a closest-hit query's
- * order; an any-hit query leaves t unset). Each visit pushes at most seven (the eighth goes on
- * at once) and the tree has at most LT_BVH_MAX_DEPTH (64) levels, so 7 * 64 entries never
- * overflow; the check stays and reports. */
+/* A pending child: what its link says, and where the ray enters its box. Each visit pushes at
+ * most seven (the eighth goes on at once) and the tree has at most LT_BVH_MAX_DEPTH (64)
+ * levels, so 7 * 64 entries never overflow; the check stays and reports. */
 #define LT_BVH8_STACK_SIZE 512
 typedef struct lt_bvh8_item {
   lt_i32 first, count;
   float t;
 } lt_bvh8_item;
+
+/* An any-hit query's pending children: a node and the lanes of it still to enter (bit i: lane
+ * i), the highest taken first. One entry a visit that enters two or more, and at most one a
+ * level of the path from the root (a lower entry is emptied before a higher one is read), so
+ * LT_BVH_MAX_DEPTH (64) levels never overflow 128; the check stays and reports. A child is read
+ * from its node only when its turn comes: a query that ends on a hit pays nothing for the rest. */
+#define LT_BVH8_PENDING_SIZE 128
+typedef struct lt_bvh8_pending {
+  lt_i32 node;
+  lt_u32 lanes;
+} lt_bvh8_pending;
 
 /* Whether this CPU runs the 8-wide path. */
 static inline int lt_bvh8_supported(void) {
@@ -380,7 +390,8 @@ LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_traverse
   hit.t = io->t, hit.u = io->u, hit.v = io->v, hit.prim = io->prim;
   int status = 0;
   lt_bvh8_ray q = lt_bvh8_ray_make(r);
-  lt_bvh8_item stack[LT_BVH8_STACK_SIZE];
+  lt_bvh8_item stack[LT_BVH8_STACK_SIZE];        /* closest hits */
+  lt_bvh8_pending pending[LT_BVH8_PENDING_SIZE]; /* any hit */
   int sp = 0;
   lt_u32 steps = 0, tests = 0;     /* counted here, added once: c may alias the stack for the compiler */
   lt_i32 first = root, count = -1; /* the root's children */
@@ -419,22 +430,14 @@ LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_traverse
         }
 
         /* Any hit: no order to keep, as Embree's occlusion traversal: the first entered on at
-         * once, the others' links on the stack (the highest lane popped first), without their
-         * entry distances (read only to order and cull, which an any-hit query does not do).
-         * Their links are copied now, though a query that ends on a hit never reads them: a
-         * pop that read the link from its node instead (one entry a node, its lanes as a mask)
-         * made fewer instructions but put two dependent loads before every pop's next visit,
-         * and took about 8% longer (docs/notes/qbvh.md). */
+         * once, the others pending (highest lane first), without their entry distances (read only
+         * to order and cull, which an any-hit query does not do). */
         if (any_hit) {
-          if (sp + LT_BVH8_WIDTH > LT_BVH8_STACK_SIZE) {
+          if (sp == LT_BVH8_PENDING_SIZE) {
             status = -1;
             break;
           }
-          do {
-            int other = __builtin_ctz((unsigned)mask);
-            mask &= mask - 1;
-            stack[sp].first = n->first[other], stack[sp].count = n->count[other], sp++;
-          } while (mask);
+          pending[sp].node = first, pending[sp].lanes = (lt_u32)mask, sp++;
           first = n->first[lane], count = n->count[lane];
           continue;
         }
@@ -477,13 +480,16 @@ LT_BVH8_TARGET __attribute__((always_inline)) static inline int lt_bvh8_traverse
       if (lt_bvh8_leaf(r, &q, blocks, first, count, vector, any_hit, &hit)) break;
     }
 
-    /* The last child pushed (any hit); the nearest pending child the best hit does not rule
-     * out (closest hit: ties are kept, a triangle at the same distance with a lower number still
-     * wins). */
+    /* The nearest pending child the best hit does not rule out (ties are kept: a triangle at
+     * the same distance with a lower number still wins). An any-hit query has none yet. */
     if (any_hit) {
       if (sp == 0) break;
-      sp--;
-      first = stack[sp].first, count = stack[sp].count;
+      lt_bvh8_pending *p = &pending[sp - 1];
+      int lane = 31 - __builtin_clz(p->lanes);
+      const lt_bvh8_node *from = &nodes[p->node];
+      p->lanes &= ~(1u << lane);
+      sp -= p->lanes == 0;
+      first = from->first[lane], count = from->count[lane];
       continue;
     }
     while (sp > 0 && stack[sp - 1].t > hit.t) sp--;
