@@ -15,8 +15,10 @@
  *   sub_maps   per built top cell, 8^level cell numbers, sub-voxels x fastest; once a full
  *              build is compacted, an entry may instead be -1 - i: the sub-voxel is cut in
  *              eight, whose entries (of the same two kinds) are sub_maps[i .. i + 8), x fastest
- *   cells      lt_irg_cell: the box the traversal leaves through and the cell's references
- *   refs       triangle numbers, ascending within a cell
+ *   cells      lt_irg_cell: the box the traversal leaves through and the cell's references; a
+ *              compacted grid whose fine grid fits 16 bits a side holds lt_irg_cell16 instead
+ *   refs       triangle numbers, ascending within a cell; behind lt_irg_cell16 each list is
+ *              stored count first (refs[list] = n, then its n triangles)
  *
  * A cell's box may be larger than the voxels that map to it: expansion grows it over
  * neighbouring voxels all of whose triangles the cell already references (see
@@ -38,15 +40,48 @@
 #define LT_IRG_ENTRY_BASE(entry) ((entry) & 0x0fffffff)
 #define LT_IRG_MAX_MAP 0x0fffffff
 
-/* One cell: 32 bytes. */
+/* One cell as the builders write it and traversal reads it: 32 bytes. */
 typedef struct lt_irg_cell {
-  lt_i32 lo[3], hi[3]; /* the box, fine voxels [lo, hi) on each axis */
-  lt_i32 begin, end;   /* its references: refs[begin .. end) */
+  lt_i32 lo[3], hi[3]; /* 24 bytes: the box, fine voxels [lo, hi) on each axis */
+  lt_i32 begin, end;   /* 8 bytes: its references, refs[begin .. end) */
 } lt_irg_cell;
+
+/* One cell of a compacted grid whose fine grid is at most LT_IRG_CELL16_MAX voxels a side:
+ * 16 bytes. Its list is stored count first, so the cell needs no end, and cells with equal
+ * lists still share one (the count is part of what they share). Compaction keeps lt_irg_cell,
+ * lists as they were, for larger fine grids (the builder allows 2^24 a side). */
+typedef struct lt_irg_cell16 {
+  lt_u16 lo[3], hi[3]; /* 12 bytes: the box, fine voxels [lo, hi) on each axis */
+  lt_i32 list;         /* 4 bytes: refs[list] = the number of triangles n, refs[list + 1 .. list + n] them */
+} lt_irg_cell16;
+
+/* The largest fine grid side whose boxes lt_irg_cell16 holds (hi is at most the side). */
+#define LT_IRG_CELL16_MAX 65535
 
 #ifndef __OPENCL_VERSION__
 _Static_assert(sizeof(lt_irg_cell) == 32, "lt_irg_cell is 32 bytes on both sides");
+_Static_assert(sizeof(lt_irg_cell16) == 16, "lt_irg_cell16 is 16 bytes on both sides");
 #endif
+
+/* A native trace kernel built for 16-byte cells only (kernels/native_irgrid_trace.c) defines
+ * this to 1 before anything includes this header: the layout is then chosen once a launch, by
+ * which kernel runs, instead of at every cell read (about 1.5% of the instructions on
+ * hairball:3000). */
+#ifndef LT_IRG_CELL16_ONLY
+#define LT_IRG_CELL16_ONLY 0
+#endif
+
+/* Cell i in the layout traversal reads, from cells16 when it is given (a compacted grid's
+ * 16-byte cells, whose lists are count first), else from cells. */
+LT_DEVICE lt_irg_cell lt_irg_cell_get(LT_GLOBAL const lt_irg_cell *cells, LT_GLOBAL const lt_irg_cell16 *cells16,
+                                      LT_GLOBAL const lt_i32 *refs, lt_i32 i) {
+  if (!LT_IRG_CELL16_ONLY && !cells16) return cells[i];
+  LT_GLOBAL const lt_irg_cell16 *n = &cells16[i];
+  lt_irg_cell c;
+  for (int k = 0; k < 3; k++) c.lo[k] = n->lo[k], c.hi[k] = n->hi[k];
+  c.begin = n->list + 1, c.end = c.begin + refs[n->list];
+  return c;
+}
 
 /* The top cell holding fine voxel (x, y, z), for a fine grid of fine_dims and a given shift. */
 LT_DEVICE lt_i32 lt_irg_top_of(lt_int4 fine_dims, int shift, int x, int y, int z) {

@@ -36,7 +36,7 @@ typedef struct lt_irg_args {
 LT_DEVICE lt_irg_view lt_irg_args_view(const lt_irg_args *a) {
   lt_irg_view v;
   v.header = a->build.header, v.top_map = a->build.top_map, v.sub_maps = a->build.sub_maps;
-  v.refs = a->build.refs, v.cells = a->build.cells, v.verts = a->build.verts;
+  v.refs = a->build.refs, v.cells = a->build.cells, v.cells16 = 0, v.verts = a->build.verts;
   v.pool = &a->build.pool, v.fine_dims = a->build.fine_dims, v.shift = a->build.shift;
   return v;
 }

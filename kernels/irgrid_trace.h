@@ -12,11 +12,12 @@ typedef struct lt_irg_trace_view {
   LT_GLOBAL const lt_grid_header *header;
   LT_GLOBAL const lt_i32 *top_map;
   LT_GLOBAL const lt_i32 *sub_maps;
-  LT_GLOBAL const lt_irg_cell *cells;
+  LT_GLOBAL const lt_irg_cell *cells; /* lt_irg_cell16 when narrow */
   LT_GLOBAL const lt_i32 *refs;
   LT_GLOBAL const float *verts;
   lt_int4 fine_dims;
   lt_i32 shift;
+  lt_i32 narrow; /* 1: the cells are a compacted grid's lt_irg_cell16, their lists count first */
 } lt_irg_trace_view;
 
 #define LT_IRG_TRACE_ARGS(X)                 \
@@ -28,11 +29,13 @@ typedef struct lt_irg_trace_view {
   X(BUF, lt_i32, refs, refs)                 \
   X(BUF, float, verts, verts)                \
   X(VAL, lt_int4, fine_dims, fine_dims)      \
-  X(VAL, lt_i32, shift, shift)
+  X(VAL, lt_i32, shift, shift)             \
+  X(VAL, lt_i32, narrow, narrow)
 
 LT_DEVICE int lt_irg_trace_one(const lt_irg_trace_view *t, lt_i32 i, lt_trace_counters *c) {
   lt_irg_view v;
   v.header = t->header, v.top_map = t->top_map, v.sub_maps = t->sub_maps, v.cells = t->cells;
+  v.cells16 = t->narrow ? (LT_GLOBAL const lt_irg_cell16 *)t->cells : 0;
   v.refs = t->refs, v.verts = t->verts, v.pool = 0, v.fine_dims = t->fine_dims, v.shift = t->shift;
   lt_irg_ray q;
   lt_irg_ray_start(&q, t->batch.rays + 8 * (long)i, t->batch.flags);

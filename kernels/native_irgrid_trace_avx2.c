@@ -4,6 +4,7 @@
  * shifts by a variable count (the voxel map's lookups): about 5% fewer instructions. The floats
  * are the same: no fused multiply-adds (the build turns contraction off), and scalar and
  * 128-bit AVX arithmetic rounds as SSE's does, so the hits are bit for bit the baseline's. */
+#define LT_IRG_CELL16_ONLY 1 /* for 16-byte cells, as the baseline build (native_irgrid_trace.c) */
 #include "kernels/native_kernels.h"
 
 #if LT_NATIVE_AVX2_CLONES

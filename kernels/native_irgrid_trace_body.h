@@ -1,8 +1,9 @@
-/* The native trace kernel of finished irregular grids, instantiated by include once for
- * baseline x86-64 (native_irgrid_trace.c) and once for AVX2 and BMI2
- * (native_irgrid_trace_avx2.c):
+/* The native trace kernel of finished irregular grids, instantiated by include for 16-byte
+ * cells once for baseline x86-64 (native_irgrid_trace.c) and once for AVX2 and BMI2
+ * (native_irgrid_trace_avx2.c), and for cells of either layout once (native_irgrid_trace_wide.c):
  *
  *   #define LT_IRG_TRACE_NAME   the function's name (void fn(void *launch))
+ *   #define LT_IRG_CELL16_ONLY  1 for 16-byte cells only, before any include (device/irgrid_cells.h)
  *
  * On x86 a cell's triangles are tested four at a time (traversal/watertight4.h, the same hits).
  * Native only; no include guard. */

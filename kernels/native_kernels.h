@@ -30,6 +30,8 @@ void lt__native_irgrid_ondemand_kernel(void *arg);
 void lt__native_irgrid_merge_kernel(void *arg);
 /* kernels/native_irgrid_trace.c: arg is an lt__native_trace_launch over an lt_irg_trace_view. */
 void lt__native_irgrid_trace_kernel(void *arg);
+/* kernels/native_irgrid_trace_wide.c: the same for cells of either layout (the 32-byte ones). */
+void lt__native_irgrid_trace_wide(void *arg);
 /* Kernels also compiled for AVX2 and BMI2 and chosen at run time (x86-64 with GCC or clang):
  * kernels/native_irgrid_trace_avx2.c. */
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))

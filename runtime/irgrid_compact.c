@@ -7,9 +7,13 @@
  * the cells some voxel maps to, renumbered in the order the voxel map first meets them (top
  * cells x fastest, then sub-voxels: cells near in space end up near in memory), each cell's
  * list copied after the previous one's (or sharing an earlier cell's equal list), and each sub-map
- * rewritten as the octree of fewest entries below its level. The build's scratch buffers and
- * the task pool go too. Done on the host: it runs once per full build, after the last launch,
- * and keeps the device kernel (which PoCL's LLVM already finds hard to compile) as it is. */
+ * rewritten as the octree of fewest entries below its level. When the fine grid is at most
+ * LT_IRG_CELL16_MAX voxels a side (every Table 1 scene's is), the cells are written as
+ * lt_irg_cell16, half the bytes, each list preceded by its count; larger fine grids keep
+ * lt_irg_cell and lists as they were, which only the trace kernel of a finished grid and the
+ * host copy (lt__irgrid_read) tell apart. The build's scratch buffers and the task pool go too.
+ * Done on the host: it runs once per full build, after the last launch, and keeps the device
+ * kernel (which PoCL's LLVM already finds hard to compile) as it is. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -19,11 +23,20 @@
 /* The compact arrays, built on the host from a copy of the grid's. */
 typedef struct compacted {
   lt_i32 *top_map, *sub_maps, *refs;
-  lt_irg_cell *cells;
+  lt_irg_cell *cells;     /* begin and end bound a list's triangles (after its count, if narrow) */
+  lt_irg_cell16 *cells16; /* narrow: the cells as uploaded */
+  int narrow;             /* lists count first, cells16 made */
   int sub_count, cell_count, ref_count;
 } compacted;
 
-static void compacted_free(compacted *c) { free(c->top_map), free(c->sub_maps), free(c->refs), free(c->cells); }
+static void compacted_free(compacted *c) {
+  free(c->top_map), free(c->sub_maps), free(c->refs), free(c->cells), free(c->cells16);
+}
+
+/* Whether the cells of a fine grid of these dimensions fit lt_irg_cell16. */
+static int fits_cell16(lt_int4 dims) {
+  return dims.x <= LT_IRG_CELL16_MAX && dims.y <= LT_IRG_CELL16_MAX && dims.z <= LT_IRG_CELL16_MAX;
+}
 
 /* Rewrites a top cell's sub-map map[] of the given level at the coarsest level that says the
  * same about every fine voxel: level l - 1 will do when each 2x2x2 block of sub-voxels maps to
@@ -107,9 +120,10 @@ static lt_i32 octree_entry(octree *o, int x, int y, int z, int width) {
 }
 
 /* Renumbers the live cells of a (every top cell built; its sub-maps are coarsened in place)
- * and lays out the compact arrays. */
-static lt_status compact_arrays(const lt__irgrid *g, lt__irgrid_arrays *a, compacted *c) {
+ * and lays out the compact arrays, narrow (lt_irg_cell16, lists count first) or not. */
+static lt_status compact_arrays(const lt__irgrid *g, lt__irgrid_arrays *a, int narrow, compacted *c) {
   memset(c, 0, sizeof *c);
+  c->narrow = narrow;
   lt_i32 *renumber = malloc(((size_t)a->cell_count + 1) * sizeof *renumber);
   c->top_map = malloc((size_t)g->top_count * sizeof *c->top_map);
   c->sub_maps = malloc(((size_t)a->sub_count + 1) * sizeof *c->sub_maps);
@@ -154,8 +168,9 @@ static lt_status compact_arrays(const lt__irgrid *g, lt__irgrid_arrays *a, compa
   free(renumber);
   size_t refs = o.refs;
 
-  /* Each live cell's list after the previous one's, or, when an earlier cell holds the very same
-   * list, that cell's: readers only read refs[begin .. end), never write it. */
+  /* Each live cell's list after the previous one's (narrow: its count first), or, when an earlier
+   * cell holds the very same list, that cell's: readers only read it, never write it. */
+  if (narrow) refs += (size_t)c->cell_count;
   c->refs = malloc((refs + 1) * sizeof *c->refs);
   size_t slots = 1;
   while (slots < 2 * (size_t)c->cell_count + 2) slots *= 2;
@@ -175,12 +190,27 @@ static lt_status compact_arrays(const lt__irgrid *g, lt__irgrid_arrays *a, compa
       cell->begin = c->cells[table[s]].begin, cell->end = c->cells[table[s]].end;
       continue;
     }
+    if (narrow) c->refs[c->ref_count++] = length;
     memcpy(c->refs + c->ref_count, list, (size_t)length * sizeof *c->refs);
     cell->begin = c->ref_count, cell->end = c->ref_count + length;
     c->ref_count += length;
     table[s] = i;
   }
   free(table);
+  if (!narrow) return LT_OK;
+
+  /* The 16-byte cells: each box's coordinates are at most the fine grid's side. */
+  c->cells16 = malloc(((size_t)c->cell_count + 1) * sizeof *c->cells16);
+  if (!c->cells16) {
+    compacted_free(c);
+    return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory compacting %d cells", c->cell_count);
+  }
+  for (int i = 0; i < c->cell_count; i++) {
+    const lt_irg_cell *cell = &c->cells[i];
+    lt_irg_cell16 *n = &c->cells16[i];
+    for (int k = 0; k < 3; k++) n->lo[k] = (lt_u16)cell->lo[k], n->hi[k] = (lt_u16)cell->hi[k];
+    n->list = cell->begin - 1;
+  }
   return LT_OK;
 }
 
@@ -189,15 +219,16 @@ lt_status lt__irgrid_compact(lt__irgrid *g) {
   lt_status status = lt__irgrid_read(g, &a);
   if (status) return status;
   compacted c;
-  status = compact_arrays(g, &a, &c);
+  status = compact_arrays(g, &a, fits_cell16(g->fine.dims), &c);
   lt__irgrid_arrays_free(&a);
   if (status) return status;
 
   /* New buffers first: should one fail, the grid is left whole as it was. */
   lt__buffer fresh[4];
-  const void *data[4] = {c.top_map, c.sub_maps, c.cells, c.refs};
+  const void *data[4] = {c.top_map, c.sub_maps, c.narrow ? (const void *)c.cells16 : c.cells, c.refs};
+  size_t cell_size = c.narrow ? sizeof *c.cells16 : sizeof *c.cells;
   size_t bytes[4] = {(size_t)g->top_count * sizeof *c.top_map, (size_t)c.sub_count * sizeof *c.sub_maps,
-                     (size_t)c.cell_count * sizeof *c.cells, (size_t)c.ref_count * sizeof *c.refs};
+                     (size_t)c.cell_count * cell_size, (size_t)c.ref_count * sizeof *c.refs};
   int made = 0;
   while (!status && made < 4) {
     status = lt__buffer_create(g->ctx, &fresh[made], bytes[made], data[made], 0);
@@ -210,6 +241,7 @@ lt_status lt__irgrid_compact(lt__irgrid *g) {
   }
   lt__buffer *old[4] = {&g->top_map, &g->sub_maps, &g->cells, &g->refs};
   for (int i = 0; i < 4; i++) lt__buffer_release(old[i]), *old[i] = fresh[i];
+  g->narrow = c.narrow;
 
   /* The heaps say what they hold now. */
   lt__heap *heaps[3] = {&g->map_heap, &g->cell_heap, &g->ref_heap};

@@ -229,7 +229,7 @@ lt_status lt__irgrid_launch(lt__irgrid *g, const lt_ray *rays, int count, int fl
 lt_status lt__irgrid_trace_finished(lt__irgrid *g, const lt_ray *rays, int count, int flags, lt_hit *hits,
                                     lt_stats *stats) {
   irg_trace_args args = {NULL, NULL, 0, 0, &g->header, &g->top_map, &g->sub_maps, &g->cells, &g->refs, &g->verts,
-                         g->fine.dims, g->shift};
+                         g->fine.dims, g->shift, g->narrow};
   lt_irg_trace_view view;
   lt__trace_call call = {"lt_irg_trace", lt__native_irgrid_trace_kernel, irg_trace_args_set_any, irg_trace_args_view_any,
                          &args, &args.rays, &args.hits, &args.ray_count, &args.flags, &view};
@@ -252,7 +252,7 @@ double lt__irgrid_bytes(lt__irgrid *g, double *cell_bytes, double *reference_byt
   lt__heap_used(g->ctx, &g->cell_heap, &cells, &exhausted);
   lt__heap_used(g->ctx, &g->ref_heap, &refs, &exhausted);
   lt__heap_used(g->ctx, &g->map_heap, &maps, &exhausted);
-  *cell_bytes = (double)cells * sizeof(lt_irg_cell);
+  *cell_bytes = (double)cells * (double)(g->narrow ? sizeof(lt_irg_cell16) : sizeof(lt_irg_cell));
   *reference_bytes = (double)refs * 4.0 + (double)g->top_begin.bytes; /* with where the top lists begin */
   *map_bytes = (double)maps * 4.0 + (double)g->top_count * 4.0 + sizeof(lt_grid_header);
   *pool_bytes = (double)(g->pool.headers.bytes + g->pool.tasks.bytes + g->pool.empty_cache.bytes +
@@ -264,6 +264,23 @@ double lt__irgrid_bytes(lt__irgrid *g, double *cell_bytes, double *reference_byt
 void lt__irgrid_arrays_free(lt__irgrid_arrays *a) {
   free(a->top_map), free(a->top_begin), free(a->sub_maps), free(a->refs), free(a->cells);
   memset(a, 0, sizeof *a);
+}
+
+/* A compacted grid's 16-byte cells into out->cells, as lt_irg_cell (out->refs read already). */
+static lt_status read_cells16(lt__irgrid *g, lt__irgrid_arrays *out) {
+  lt_irg_cell16 *narrow = malloc(((size_t)out->cell_count + 1) * sizeof *narrow);
+  if (!narrow) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory copying an irregular grid");
+  lt_status status = lt__buffer_read(g->ctx, &g->cells, 0, (size_t)out->cell_count * sizeof *narrow, narrow);
+  for (int i = 0; !status && i < out->cell_count; i++) {
+    lt_irg_cell16 *n = &narrow[i];
+    if (n->list < 0 || n->list >= out->ref_count || out->refs[n->list] < 0 ||
+        out->refs[n->list] > out->ref_count - n->list - 1)
+      status = lt__fail(LT_ERROR_INVALID_ARGUMENT, "compacted cell %d's list is out of bounds", i);
+    else
+      out->cells[i] = lt_irg_cell_get(NULL, narrow, out->refs, i);
+  }
+  free(narrow);
+  return status;
 }
 
 lt_status lt__irgrid_read(lt__irgrid *g, lt__irgrid_arrays *out) {
@@ -287,7 +304,9 @@ lt_status lt__irgrid_read(lt__irgrid *g, lt__irgrid_arrays *out) {
   if (!status && !g->compacted) status = lt__buffer_read(g->ctx, &g->top_begin, 0, (top + 1) * 4, out->top_begin);
   if (!status) status = lt__buffer_read(g->ctx, &g->sub_maps, 0, (size_t)out->sub_count * 4, out->sub_maps);
   if (!status) status = lt__buffer_read(g->ctx, &g->refs, 0, (size_t)out->ref_count * 4, out->refs);
-  if (!status) status = lt__buffer_read(g->ctx, &g->cells, 0, (size_t)out->cell_count * sizeof(lt_irg_cell), out->cells);
+  if (!status && !g->narrow)
+    status = lt__buffer_read(g->ctx, &g->cells, 0, (size_t)out->cell_count * sizeof(lt_irg_cell), out->cells);
+  if (!status && g->narrow) status = read_cells16(g, out);
   if (status) lt__irgrid_arrays_free(out);
   return status;
 }

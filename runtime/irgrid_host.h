@@ -35,6 +35,7 @@ typedef struct lt__irgrid {
   int top_dims[3], top_count, count;
   int shift; /* fine voxels per top cell: 2^shift per axis (0 for a uniform grid) */
   int compacted; /* lt__irgrid_compact ran: the top lists and the build's scratch are gone */
+  int narrow;    /* compacted into lt_irg_cell16 (the fine grid fits 16 bits a side), lists count first */
   lt__irgrid_config config;
   double totals[LT_IRG_STAT_COUNT]; /* the build's counters over all launches */
 } lt__irgrid;
@@ -58,9 +59,10 @@ lt_status lt__irgrid_trace_finished(lt__irgrid *g, const lt_ray *rays, int count
                                     lt_stats *stats);
 /* Gives back what a finished grid no longer needs (runtime/irgrid_compact.c): cells and
  * lists that merging replaced, the top lists, the build's scratch, the task pool; the lists
- * that equal an earlier cell's shared and the sub-maps made octrees. Every top cell must be
- * built; traversal finds the same cells' contents at the same voxels. On failure the grid is
- * left as it was. */
+ * that equal an earlier cell's shared, the sub-maps made octrees, and the cells made 16 bytes
+ * (lt_irg_cell16, lists count first) when the fine grid is at most LT_IRG_CELL16_MAX a side
+ * (else they keep lt_irg_cell). Every top cell must be built; traversal finds the same cells'
+ * contents at the same voxels. On failure the grid is left as it was. */
 lt_status lt__irgrid_compact(lt__irgrid *g);
 /* Which heap the last launch ran out of, if any: 1 cells, 2 references, 3 sub-maps, 0 none. */
 int lt__irgrid_heap_full(lt__irgrid *g);
@@ -69,7 +71,9 @@ int lt__irgrid_heap_full(lt__irgrid *g);
 double lt__irgrid_bytes(lt__irgrid *g, double *cell_bytes, double *reference_bytes, double *map_bytes,
                         double *pool_bytes);
 /* A host copy of a grid's arrays (for tests that check cells and compare grids); free with
- * lt__irgrid_arrays_free. A compacted grid has no top lists: top_begin is all zero. */
+ * lt__irgrid_arrays_free. A compacted grid has no top lists: top_begin is all zero. Cells are
+ * copied as lt_irg_cell whatever their layout: 16-byte cells' begin and end then bound the
+ * triangles of their count-first lists, which refs holds as stored, counts included. */
 typedef struct lt__irgrid_arrays {
   lt_i32 *top_map, *top_begin, *sub_maps, *refs;
   lt_irg_cell *cells;

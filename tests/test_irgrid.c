@@ -212,13 +212,17 @@ static void irgrid_cells_reference_exactly_what_meets_them(void **state) {
       fprintf(stderr, "irgrid %s, %s: %d top cells, %d cells hold exactly what meets them\n", scenes[s],
               settings[v].what, b.g->top_count, cells);
       assert_true(cells >= b.g->top_count);
-      /* A full build is compacted: every cell is some voxel's, the lists lie end to end, and a
-       * cell whose list an earlier cell holds already shares it. */
+      /* A full build is compacted: every cell is some voxel's, the lists lie end to end, each
+       * after its count (these fine grids fit 16-byte cells), and a cell whose list an earlier
+       * cell holds already shares it. */
       assert_int_equal(cells, b.a.cell_count);
+      assert_true(b.g->compacted && b.g->narrow);
+      assert_int_equal(b.g->cells.bytes, (size_t)b.a.cell_count * sizeof(lt_irg_cell16));
       int at = 0;
       for (int c = 0; c < b.a.cell_count; c++) {
         const lt_irg_cell *cell = &b.a.cells[c];
-        if (cell->begin == at && cell->end > at) {
+        assert_int_equal(b.a.refs[cell->begin - 1], cell->end - cell->begin);
+        if (cell->begin == at + 1) {
           at = cell->end;
           continue;
         }
@@ -231,6 +235,77 @@ static void irgrid_cells_reference_exactly_what_meets_them(void **state) {
     }
     lt_scene_destroy(scene);
   }
+}
+
+/* A row of small triangles along x, one a unit, each within 0.5 of the axis on y and z: at a
+ * top density of 1024 cells a triangle the top grid is over 2048 cells long (the flat-scene
+ * rule counts the thin axes as 1/64 of the longest), one cell on y and z, so the fine grid is
+ * more than 65535 voxels long and its cells' boxes do not fit 16 bits. */
+static lt_scene *long_row(int n) {
+  float *tris = malloc((size_t)n * 9 * sizeof *tris);
+  uint64_t seed = 77;
+  for (int i = 0; i < n; i++) {
+    float x = (float)i + 0.3f * lt__splitmix_unit(&seed), y = 0.2f * lt__splitmix_unit(&seed);
+    float z = 0.2f * lt__splitmix_unit(&seed);
+    float t[9] = {x, y, z, x + 0.6f, y + 0.3f * lt__splitmix_unit(&seed), z + 0.05f, x + 0.1f, y + 0.05f,
+                  z + 0.3f * lt__splitmix_unit(&seed)};
+    memcpy(tris + 9 * (size_t)i, t, sizeof t);
+  }
+  lt_scene *scene;
+  assert_int_equal(lt_scene_from_triangles(tris, (size_t)n, &scene), LT_OK);
+  free(tris);
+  return scene;
+}
+
+/* Compaction keeps the 32-byte cells, their lists without counts, when the fine grid is too
+ * long for 16-bit coordinates: the grid holds them, its cells reference exactly what meets
+ * them, and both backends' trace kernels return the reference's hits, rays along the row
+ * (crossing cells whose boxes lie beyond voxel 65535) among them. */
+static void irgrid_fine_grid_beyond_16_bits_keeps_wide_cells(void **state) {
+  (void)state;
+  const int n = 4096;
+  lt_scene *scene = long_row(n);
+  lt_structure_config sc = irgrid_config(LT_BUILD_FULL);
+  sc.irgrid_top_density = 1024.0f;
+  built b = build_grid(scene, &sc, NULL, 0);
+  fprintf(stderr, "irgrid long row: fine grid %dx%dx%d, %d cells of %zu bytes\n", b.g->fine.dims.x, b.g->fine.dims.y,
+          b.g->fine.dims.z, b.a.cell_count, b.g->cells.bytes / (size_t)b.a.cell_count);
+  assert_true(b.g->fine.dims.x > LT_IRG_CELL16_MAX);
+  assert_true(b.g->compacted && !b.g->narrow);
+  assert_int_equal(b.g->cells.bytes, (size_t)b.a.cell_count * sizeof(lt_irg_cell));
+  int beyond = 0;
+  for (int c = 0; c < b.a.cell_count; c++) beyond += b.a.cells[c].hi[0] > LT_IRG_CELL16_MAX;
+  assert_true(beyond > 0);
+  assert_int_equal(check_cells(scene, &b), b.a.cell_count);
+  built_free(&b);
+
+  /* Random rays over the row's box, and rays nearly along it from anywhere on it, either way. */
+  size_t count = 4096;
+  lt_ray *rays = malloc(count * sizeof *rays);
+  lt_hit *ref = malloc(count * sizeof *ref);
+  lt_test_random_rays(scene, 5, count / 2, rays);
+  uint64_t seed = 9;
+  for (size_t i = count / 2; i < count; i++) {
+    float o[3] = {(float)n * lt__splitmix_unit(&seed), 0.5f * lt__splitmix_unit(&seed), 0.5f * lt__splitmix_unit(&seed)};
+    float d[3] = {i % 2 ? 1.0f : -1.0f, 0.01f * (lt__splitmix_unit(&seed) - 0.5f), 0.01f * (lt__splitmix_unit(&seed) - 0.5f)};
+    rays[i] = (lt_ray){{o[0], o[1], o[2]}, 0.0f, {d[0], d[1], d[2]}, INFINITY};
+  }
+  assert_int_equal(lt_reference_trace(scene, rays, count, LT_QUERY_CLOSEST, ref), LT_OK);
+  size_t hit = 0;
+  for (size_t i = 0; i < count; i++) hit += ref[i].prim >= 0;
+  assert_true(hit > count / 4);
+  const launch launches[] = {{LT_DEVICE_NATIVE, 2, 1}, {LT_DEVICE_OPENCL, 0, 1}};
+  for (size_t l = 0; l < 1 + (size_t)lt_test_opencl_available(); l++) {
+    lt_hit *hits = trace_with(scene, &launches[l], &sc, rays, count, LT_QUERY_CLOSEST, NULL);
+    lt_hit *any = trace_with(scene, &launches[l], &sc, rays, count, LT_QUERY_ANY, NULL);
+    assert_int_equal(lt_test_count_mismatches("irgrid long row", hits, ref, count), 0);
+    assert_int_equal(lt_test_count_occlusion_mismatches(any, ref, count), 0);
+    free(hits), free(any);
+  }
+  fprintf(stderr, "irgrid long row: %zu rays (%zu hit) match the reference on %s\n", count, hit,
+          lt_test_opencl_available() ? "both backends" : "the native backend");
+  free(rays), free(ref);
+  lt_scene_destroy(scene);
 }
 
 /* Every top cell built on demand has the level of a full build that merges within top cells,
@@ -399,8 +474,9 @@ static void irgrid_statistics_are_filled(void **state) {
   assert_true(lt_stats_get(stats, "sort_ops") >= (double)tris);
   /* The top map, and at least one sub-map entry for each cell kept (a compacted sub-map is an
    * octree: merged cells take fewer entries than the voxels they cover). */
-  assert_true(lt_stats_get(stats, "map_bytes") >= 4 * (top + lt_stats_get(stats, "node_bytes") / 32));
-  assert_true(lt_stats_get(stats, "node_bytes") >= 32 * final); /* with cells the global passes merged away */
+  assert_true(lt_stats_get(stats, "map_bytes") >= 4 * (top + final));
+  /* The cells kept, compacted to 16 bytes each (sphere:4's fine grid fits 16 bits). */
+  assert_true(lt_stats_get(stats, "node_bytes") == 16 * final);
   assert_true(lt_stats_get(stats, "traversal_steps") > 0 && lt_stats_get(stats, "intersections") > 0);
   lt_stats_destroy(stats);
   free(rays);
@@ -441,6 +517,7 @@ int main(void) {
       cmocka_unit_test(irgrid_statistics_are_filled),
       cmocka_unit_test(irgrid_bad_settings_are_refused),
       cmocka_unit_test(irgrid_cells_reference_exactly_what_meets_them),
+      cmocka_unit_test(irgrid_fine_grid_beyond_16_bits_keeps_wide_cells),
       cmocka_unit_test(irgrid_top_cells_built_on_demand_equal_the_full_build),
       cmocka_unit_test(irgrid_builds_only_what_rays_reach),
       cmocka_unit_test(irgrid_full_pool_is_retried_larger),

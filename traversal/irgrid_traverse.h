@@ -67,7 +67,8 @@
 typedef struct lt_irg_view {
   LT_GLOBAL const lt_grid_header *header; /* the fine grid */
   LT_GLOBAL const lt_i32 *top_map, *sub_maps, *refs;
-  LT_GLOBAL const lt_irg_cell *cells;
+  LT_GLOBAL const lt_irg_cell *cells;     /* the cells as built */
+  LT_GLOBAL const lt_irg_cell16 *cells16; /* or, when not NULL, a compacted grid's 16-byte cells */
   LT_GLOBAL const float *verts;
   const lt_pool *pool; /* on demand: where unbuilt top cells are requested; NULL when all are built */
   lt_int4 fine_dims;
@@ -124,14 +125,14 @@ LT_DEVICE lt_i32 lt_irg_cell_at(const lt_irg_view *v, const lt_irg_ray *q, int u
 }
 
 /* Where the ray crosses a cell box's far face on axis k (infinity where it runs parallel). */
-LT_DEVICE float lt_irg_far_crossing(const lt_irg_ray *q, LT_GLOBAL const lt_irg_cell *cell, int k) {
+LT_DEVICE float lt_irg_far_crossing(const lt_irg_ray *q, const lt_irg_cell *cell, int k) {
   const lt_grid_walk *w = &q->w[k];
   if (w->sign == 0) return INFINITY;
   return lt_grid_crossing(w, w->sign > 0 ? cell->hi[k] : w->axis.n - cell->lo[k]);
 }
 
 /* 1 when a cell's box holds every voxel of the ranges' product. */
-LT_DEVICE int lt_irg_box_holds_ranges(const lt_irg_ray *q, LT_GLOBAL const lt_irg_cell *cell) {
+LT_DEVICE int lt_irg_box_holds_ranges(const lt_irg_ray *q, const lt_irg_cell *cell) {
   for (int k = 0; k < 3; k++) {
     const lt_grid_walk *w = &q->w[k];
     int lo = lt_grid_cell_of(w, w->first), hi = lt_grid_cell_of(w, w->last);
@@ -141,14 +142,15 @@ LT_DEVICE int lt_irg_box_holds_ranges(const lt_irg_ray *q, LT_GLOBAL const lt_ir
   return 1;
 }
 
-/* Tests a cell's triangles unless it was tested lately; 1 when an any-hit query is answered. */
-LT_DEVICE int lt_irg_test_cell(const lt_irg_view *v, lt_irg_ray *q, lt_i32 cell, int any_hit, lt_trace_counters *c) {
+/* Tests the triangles of cell number `cell` (read into p) unless it was tested lately; 1 when
+ * an any-hit query is answered. */
+LT_DEVICE int lt_irg_test_cell(const lt_irg_view *v, lt_irg_ray *q, lt_i32 cell, const lt_irg_cell *p, int any_hit,
+                               lt_trace_counters *c) {
   for (int i = 0; i < LT_IRG_RECENT; i++)
     if (q->recent[i] == cell) return 0;
   q->recent[q->recent_next] = cell;
   q->recent_next = (q->recent_next + 1) & (LT_IRG_RECENT - 1);
   c->traversal_steps++;
-  LT_GLOBAL const lt_irg_cell *p = &v->cells[cell];
 #if LT_IRG_WATERTIGHT4
   /* Natively, a cell of two or more triangles takes them four at a time (the same hits). */
   if (p->end - p->begin >= 2 && !(q->r.flags & LT_QUERY_FLAG_FAST_TRIANGLES)) {
@@ -248,15 +250,15 @@ LT_DEVICE int lt_irg_visit(const lt_irg_view *v, lt_irg_ray *q, const int *lo, c
         lt_i32 cell = lt_irg_cell_at(v, q, ux, uy, uz);
         if (cell < 0) return lt_irg_wait(v, q, ux, uy, uz, cell);
         q->wait = -1;
-        if (lt_irg_test_cell(v, q, cell, any_hit, c)) {
+        lt_irg_cell p = lt_irg_cell_get(v->cells, v->cells16, v->refs, cell);
+        if (lt_irg_test_cell(v, q, cell, &p, any_hit, c)) {
           q->state = LT_IRG_RAY_DONE;
           return 1;
         }
-        LT_GLOBAL const lt_irg_cell *p = &v->cells[cell];
         int u[3] = {ux, uy, uz}, last[3] = {ux == q->w[0].last, uy == q->w[1].last, uz == q->w[2].last};
         float e[3], B = INFINITY, W = INFINITY;
         for (int k = 0; k < 3; k++) {
-          e[k] = last[k] ? lt_irg_far_crossing(q, p, k) : INFINITY;
+          e[k] = last[k] ? lt_irg_far_crossing(q, &p, k) : INFINITY;
           B = e[k] < B ? e[k] : B;
           if (!last[k]) {
             const lt_grid_walk *w = &q->w[k];
@@ -335,7 +337,8 @@ LT_DEVICE int lt_irg_advance(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_
     /* Skip every boundary before T. If the last voxel's cell holds all the ranges now, it
      * covers the voxels left behind by the next boundary. */
     for (int k = 0; k < 3; k++) lt_irg_skip_axis(&q->w[k], &q->r, k, T, widen);
-    q->cover = lt_irg_box_holds_ranges(q, &v->cells[newest]) ? newest : -1;
+    lt_irg_cell box = lt_irg_cell_get(v->cells, v->cells16, v->refs, newest);
+    q->cover = lt_irg_box_holds_ranges(q, &box) ? newest : -1;
     for (int k = 0; k < 3; k++) q->cover_exit[k] = ex[k];
 
     /* The next boundary, and the uniform walk's rules for it. */
