@@ -29,7 +29,7 @@ typedef struct lt_irg_trace_view {
   X(BUF, lt_i32, refs, refs)                 \
   X(BUF, float, verts, verts)                \
   X(VAL, lt_int4, fine_dims, fine_dims)      \
-  X(VAL, lt_i32, shift, shift)             \
+  X(VAL, lt_i32, shift, shift)               \
   X(VAL, lt_i32, narrow, narrow)
 
 LT_DEVICE int lt_irg_trace_one(const lt_irg_trace_view *t, lt_i32 i, lt_trace_counters *c) {

@@ -286,8 +286,10 @@ static void irgrid_fine_grid_beyond_16_bits_keeps_wide_cells(void **state) {
   lt_test_random_rays(scene, 5, count / 2, rays);
   uint64_t seed = 9;
   for (size_t i = count / 2; i < count; i++) {
-    float o[3] = {(float)n * lt__splitmix_unit(&seed), 0.5f * lt__splitmix_unit(&seed), 0.5f * lt__splitmix_unit(&seed)};
-    float d[3] = {i % 2 ? 1.0f : -1.0f, 0.01f * (lt__splitmix_unit(&seed) - 0.5f), 0.01f * (lt__splitmix_unit(&seed) - 0.5f)};
+    float o[3] = {(float)n * lt__splitmix_unit(&seed), 0.5f * lt__splitmix_unit(&seed),
+                  0.5f * lt__splitmix_unit(&seed)};
+    float d[3] = {i % 2 ? 1.0f : -1.0f, 0.01f * (lt__splitmix_unit(&seed) - 0.5f),
+                  0.01f * (lt__splitmix_unit(&seed) - 0.5f)};
     rays[i] = (lt_ray){{o[0], o[1], o[2]}, 0.0f, {d[0], d[1], d[2]}, INFINITY};
   }
   assert_int_equal(lt_reference_trace(scene, rays, count, LT_QUERY_CLOSEST, ref), LT_OK);
