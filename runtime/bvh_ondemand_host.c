@@ -255,13 +255,17 @@ lt_status lt__ondemand_launch(lt__ondemand *od, const lt_ray *rays, int count, i
   /* Every stride-th ray first: it has the pool build most of what the batch needs, which the
    * whole batch's launch then crosses on the wide layout (runtime/bvh_wide_host.c). The
    * sample's answers go straight into hits (the native backend's launch writes the caller's
-   * array), and the batch's launch skips those rays instead of tracing them again. */
+   * array), and the batch's launch skips those rays instead of tracing them again. The sample
+   * is traced the same way, its own sample first while it is large enough: a ray that meets
+   * nodes still to be built crosses the binary tree and waits, several times a ray that meets
+   * a collapsed tree costs, so the fewer rays come before the first collapse the better, and
+   * each stage after it runs mostly wide on what the stage before built. */
   size_t n = ((size_t)count + (size_t)stride - 1) / (size_t)stride; /* count >= 1024 * stride, stride > 1 */
   lt_ray *sample = malloc(n * sizeof *sample);
   lt_hit *sample_hits = malloc(n * sizeof *sample_hits);
   lt_status status = sample && sample_hits ? LT_OK : lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for a ray sample");
   for (size_t i = 0; !status && i < n; i++) sample[i] = rays[i * (size_t)stride];
-  if (!status) status = launch_batch(od, sample, (int)n, flags, sample_hits, speculate, stats, 0);
+  if (!status) status = lt__ondemand_launch(od, sample, (int)n, flags, sample_hits, speculate, stats);
   for (size_t i = 0; !status && i < n; i++) hits[i * (size_t)stride] = sample_hits[i];
   free(sample);
   free(sample_hits);

@@ -38,7 +38,8 @@ typedef struct lt__ondemand {
  * measures binary against wide traversal). */
 int lt__ondemand_wide_wanted(const lt_context *ctx, int pool_mode);
 /* The stride of the ray sample traced before each batch (so that the rest of the batch runs
- * on a tree collapsed after the sample's builds; the sample's rays are not traced again):
+ * on a tree collapsed after the sample's builds; the sample's rays are not traced again, and
+ * the sample itself is traced after a sample of its own while it is large enough):
  * LT_BVH_WIDE_SAMPLE (default 16; 0 turns it off), read once when a tree is made, as
  * LT_BVH_WIDE is. */
 int lt__ondemand_wide_stride(void);
