@@ -14,7 +14,8 @@
  *                <= -2  not built yet: -2 - slot, the pool slot of the task that builds it
  *   sub_maps   per built top cell, 8^level cell numbers, sub-voxels x fastest; once a full
  *              build is compacted, an entry may instead be -1 - i: the sub-voxel is cut in
- *              eight, whose entries (of the same two kinds) are sub_maps[i .. i + 8), x fastest
+ *              eight, whose entries (of the same two kinds) are sub_maps[i .. i + 8), x fastest;
+ *              behind lt_irg_cell16 the entries are packed in 3 bytes each (lt_irg_map_entry)
  *   cells      lt_irg_cell: the box the traversal leaves through and the cell's references; a
  *              compacted grid whose fine grid fits 16 bits a side holds lt_irg_cell16 instead
  *   refs       triangle numbers, ascending within a cell; behind lt_irg_cell16 the lists are
@@ -173,21 +174,43 @@ LT_DEVICE lt_i32 lt_irg_top_of(lt_int4 fine_dims, int shift, int x, int y, int z
   return lt_grid_cell_index(tx, ty, x >> shift, y >> shift, z >> shift);
 }
 
+/* A compacted grid with 16-byte cells (whose cells and sub-maps both number fewer than
+ * LT_IRG_MAP24_MAX) holds its sub-map entries in 3 bytes each, little-endian, as two's
+ * complement 24-bit numbers, with one byte after the last: entry i is at byte 3 * i. Elsewhere
+ * an entry is an lt_i32. */
+#define LT_IRG_MAP24_MAX (1 << 23)
+
+/* Entry i of the sub-maps, packed (3 bytes an entry) or not. */
+LT_DEVICE lt_i32 lt_irg_map_entry(LT_GLOBAL const lt_i32 *sub_maps, int packed, lt_i32 i) {
+  if (!packed) return sub_maps[i];
+  LT_GLOBAL const lt_u8 *p = (LT_GLOBAL const lt_u8 *)sub_maps + 3 * (long)i;
+#if !defined(__OPENCL_VERSION__) && defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  /* Natively one unaligned load of four bytes (the byte after the last entry is there for it). */
+  lt_u32 w;
+  __builtin_memcpy(&w, p, 4);
+#else
+  lt_u32 w = (lt_u32)p[0] | (lt_u32)p[1] << 8 | (lt_u32)p[2] << 16;
+#endif
+  return (lt_i32)(w << 8) >> 8;
+}
+
 /* The cell of fine voxel (x, y, z): its number (>= 0), or the top map's entry when the top
- * cell is not built (< 0). The entry is read with acquire ordering: a built entry is published
- * after the sub-map and the cells it leads to. */
-LT_DEVICE lt_i32 lt_irg_lookup(LT_GLOBAL const lt_i32 *top_map, LT_GLOBAL const lt_i32 *sub_maps, lt_int4 fine_dims,
-                               int shift, int x, int y, int z) {
+ * cell is not built (< 0); packed: the sub-map entries are 3 bytes (lt_irg_map_entry). The entry
+ * is read with acquire ordering: a built entry is published after the sub-map and the cells it
+ * leads to. */
+LT_DEVICE lt_i32 lt_irg_lookup(LT_GLOBAL const lt_i32 *top_map, LT_GLOBAL const lt_i32 *sub_maps, int packed,
+                               lt_int4 fine_dims, int shift, int x, int y, int z) {
   lt_i32 entry = lt_atomic_load_acquire_i32((LT_GLOBAL lt_i32 *)&top_map[lt_irg_top_of(fine_dims, shift, x, y, z)]);
   if (entry < 0) return entry;
   int level = LT_IRG_ENTRY_LEVEL(entry), down = shift - level, mask = (1 << level) - 1;
   int sx = (x >> down) & mask, sy = (y >> down) & mask, sz = (z >> down) & mask;
-  lt_i32 cell = sub_maps[LT_IRG_ENTRY_BASE(entry) + sx + ((sy + (sz << level)) << level)];
+  lt_i32 cell = lt_irg_map_entry(sub_maps, packed, LT_IRG_ENTRY_BASE(entry) + sx + ((sy + (sz << level)) << level));
   /* A compacted sub-map is an octree below its own level: a negative entry leads to the eight
    * sub-voxels of half the width that make up its sub-voxel, at sub_maps[-1 - entry], x fastest. */
   while (cell < 0) {
     down--;
-    cell = sub_maps[-1 - cell + ((x >> down) & 1) + 2 * ((y >> down) & 1) + 4 * ((z >> down) & 1)];
+    cell = lt_irg_map_entry(sub_maps, packed,
+                            -1 - cell + ((x >> down) & 1) + 2 * ((y >> down) & 1) + 4 * ((z >> down) & 1));
   }
   return cell;
 }

@@ -9,10 +9,11 @@
  * list copied after the previous one's (or sharing an earlier cell's equal list), and each sub-map
  * rewritten as the octree of fewest entries below its level. When the fine grid is at most
  * LT_IRG_CELL16_MAX voxels a side (every Table 1 scene's is), the cells are written as
- * lt_irg_cell16, half the bytes, and the lists packed (count first, then the steps between
- * triangles as varints: lt_irg_list_pack); larger fine grids keep lt_irg_cell and lists of
- * 32-bit triangle numbers, which only the trace kernel of a finished grid and the host copy
- * (lt__irgrid_read) tell apart. The build's scratch buffers and the task pool go too.
+ * lt_irg_cell16, half the bytes, the lists packed (count first, then the steps between
+ * triangles as varints: lt_irg_list_pack) and the sub-map entries in 3 bytes; larger fine grids
+ * (or grids of more than 2^23 cells or sub-map entries) keep lt_irg_cell, lists of 32-bit
+ * triangle numbers and 32-bit entries, which only the trace kernel of a finished grid and the
+ * host copy (lt__irgrid_read) tell apart. The build's scratch buffers and the task pool go too.
  * Done on the host: it runs once per full build, after the last launch, and keeps the device
  * kernel (which PoCL's LLVM already finds hard to compile) as it is. */
 #include <stdlib.h>
@@ -27,12 +28,14 @@ typedef struct compacted {
   lt_irg_cell *cells;     /* begin and end bound a list's triangles in refs */
   lt_irg_cell16 *cells16; /* narrow: the cells as uploaded */
   lt_u8 *packed;          /* narrow: the lists as uploaded, packed_words 32-bit words */
-  int narrow;             /* cells16 and packed made */
-  int sub_count, cell_count, ref_count, packed_words;
+  lt_u8 *map24;           /* narrow: the sub-maps as uploaded (3 bytes an entry), map_words 32-bit words */
+  int narrow;             /* cells16, packed and map24 made */
+  int sub_count, cell_count, ref_count, packed_words, map_words;
 } compacted;
 
 static void compacted_free(compacted *c) {
   free(c->top_map), free(c->sub_maps), free(c->refs), free(c->cells), free(c->cells16), free(c->packed);
+  free(c->map24);
 }
 
 /* Whether the cells of a fine grid of these dimensions fit lt_irg_cell16, and the triangle
@@ -151,9 +154,24 @@ static lt_status pack_lists(compacted *c, const lt_i32 *owner, int *fits) {
   return LT_OK;
 }
 
+/* The sub-maps' entries in 3 bytes each (lt_irg_map_entry), with a byte after the last; every
+ * entry, a cell number or -1 - an entry's index, fits 24 bits when cells and entries number at
+ * most LT_IRG_MAP24_MAX. */
+static lt_status pack_map(compacted *c) {
+  size_t bytes = 3 * (size_t)c->sub_count + 1;
+  c->map_words = (int)((bytes + 3) / 4);
+  c->map24 = calloc((size_t)c->map_words, 4);
+  if (!c->map24) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory packing %d voxel map entries", c->sub_count);
+  for (int i = 0; i < c->sub_count; i++) {
+    lt_u32 e = (lt_u32)c->sub_maps[i];
+    for (int b = 0; b < 3; b++) c->map24[3 * (size_t)i + (size_t)b] = (lt_u8)(e >> (8 * b));
+  }
+  return LT_OK;
+}
+
 /* Renumbers the live cells of a (every top cell built; its sub-maps are coarsened in place)
- * and lays out the compact arrays, narrow (lt_irg_cell16, lists packed) or not (if they do not
- * fit, not). */
+ * and lays out the compact arrays, narrow (lt_irg_cell16, lists and map entries packed) or not
+ * (nor where they do not fit). */
 static lt_status compact_arrays(const lt__irgrid *g, lt__irgrid_arrays *a, int narrow, compacted *c) {
   memset(c, 0, sizeof *c);
   c->narrow = narrow;
@@ -230,14 +248,16 @@ static lt_status compact_arrays(const lt__irgrid *g, lt__irgrid_arrays *a, int n
     table[s] = i;
   }
   free(table);
-  if (!narrow) {
+  if (!narrow || c->cell_count > LT_IRG_MAP24_MAX || c->sub_count > LT_IRG_MAP24_MAX) {
     free(owner);
+    c->narrow = 0;
     return LT_OK;
   }
 
-  /* The 16-byte cells and packed lists, unless the lists pass 2^31 bytes. */
+  /* The 16-byte cells, packed lists and 3-byte map entries, unless the lists pass 2^31 bytes. */
   lt_status status = pack_lists(c, owner, &c->narrow);
   free(owner);
+  if (!status && c->narrow) status = pack_map(c);
   if (status) compacted_free(c);
   return status;
 }
@@ -253,11 +273,11 @@ lt_status lt__irgrid_compact(lt__irgrid *g) {
 
   /* New buffers first: should one fail, the grid is left whole as it was. */
   lt__buffer fresh[4];
-  const void *data[4] = {c.top_map, c.sub_maps, c.narrow ? (const void *)c.cells16 : c.cells,
-                         c.narrow ? (const void *)c.packed : c.refs};
+  const void *data[4] = {c.top_map, c.narrow ? (const void *)c.map24 : c.sub_maps,
+                         c.narrow ? (const void *)c.cells16 : c.cells, c.narrow ? (const void *)c.packed : c.refs};
   size_t cell_size = c.narrow ? sizeof *c.cells16 : sizeof *c.cells;
-  int ref_words = c.narrow ? c.packed_words : c.ref_count;
-  size_t bytes[4] = {(size_t)g->top_count * sizeof *c.top_map, (size_t)c.sub_count * sizeof *c.sub_maps,
+  int map_words = c.narrow ? c.map_words : c.sub_count, ref_words = c.narrow ? c.packed_words : c.ref_count;
+  size_t bytes[4] = {(size_t)g->top_count * sizeof *c.top_map, (size_t)map_words * sizeof *c.sub_maps,
                      (size_t)c.cell_count * cell_size, (size_t)ref_words * sizeof *c.refs};
   int made = 0;
   while (!status && made < 4) {
@@ -275,7 +295,7 @@ lt_status lt__irgrid_compact(lt__irgrid *g) {
 
   /* The heaps say what they hold now. */
   lt__heap *heaps[3] = {&g->map_heap, &g->cell_heap, &g->ref_heap};
-  int units[3] = {c.sub_count, c.cell_count, ref_words};
+  int units[3] = {map_words, c.cell_count, ref_words};
   compacted_free(&c);
   for (int i = 0; i < 3 && !status; i++) {
     heaps[i]->capacity = units[i];

@@ -329,6 +329,18 @@ static lt_status read_cells16(lt__irgrid *g, lt__irgrid_arrays *out) {
   return LT_OK;
 }
 
+/* A compacted grid's packed sub-map entries (3 bytes each, out->sub_maps holding the words on
+ * entry) as lt_i32; the byte after the last may make one more entry, which nothing names. */
+static lt_status read_map24(lt__irgrid_arrays *out) {
+  int count = (4 * out->sub_count - 1) / 3;
+  lt_i32 *map = malloc(((size_t)count + 1) * sizeof *map);
+  if (!map) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory copying an irregular grid");
+  for (int i = 0; i < count; i++) map[i] = lt_irg_map_entry(out->sub_maps, 1, i);
+  free(out->sub_maps);
+  out->sub_maps = map, out->sub_count = count;
+  return LT_OK;
+}
+
 lt_status lt__irgrid_read(lt__irgrid *g, lt__irgrid_arrays *out) {
   memset(out, 0, sizeof *out);
   int exhausted;
@@ -353,6 +365,7 @@ lt_status lt__irgrid_read(lt__irgrid *g, lt__irgrid_arrays *out) {
   if (!status && !g->narrow)
     status = lt__buffer_read(g->ctx, &g->cells, 0, (size_t)out->cell_count * sizeof(lt_irg_cell), out->cells);
   if (!status && g->narrow) status = read_cells16(g, out);
+  if (!status && g->narrow) status = read_map24(out);
   if (status) lt__irgrid_arrays_free(out);
   return status;
 }

@@ -151,7 +151,7 @@ static int check_cells(const lt_scene *scene, const built *b) {
     for (int s = 0; s < side * side * side; s++) {
       int v[3] = {(top[0] << shift) + s % side, (top[1] << shift) + (s / side) % side,
                   (top[2] << shift) + s / (side * side)};
-      lt_i32 id = lt_irg_lookup(b->a.top_map, b->a.sub_maps, h->dims, shift, v[0], v[1], v[2]);
+      lt_i32 id = lt_irg_lookup(b->a.top_map, b->a.sub_maps, 0, h->dims, shift, v[0], v[1], v[2]);
       assert_true(id >= 0 && id < b->a.cell_count);
       const lt_irg_cell *cell = &b->a.cells[id];
       for (int k = 0; k < 3; k++) assert_true(cell->lo[k] <= v[k] && v[k] < cell->hi[k]);
@@ -370,8 +370,9 @@ static void irgrid_top_cells_built_on_demand_equal_the_full_build(void **state) 
         int x = (top[0] << LT_IRG_MAX_LEVEL) + s % side * step, y = (top[1] << LT_IRG_MAX_LEVEL) + s / side % side * step;
         int z = (top[2] << LT_IRG_MAX_LEVEL) + s / (side * side) * step;
         lt_int4 dims = full.g->fine.dims;
-        const lt_irg_cell *a = &od.a.cells[lt_irg_lookup(od.a.top_map, od.a.sub_maps, dims, LT_IRG_MAX_LEVEL, x, y, z)];
-        const lt_irg_cell *b = &full.a.cells[lt_irg_lookup(full.a.top_map, full.a.sub_maps, dims, LT_IRG_MAX_LEVEL, x, y, z)];
+        lt_i32 in_od = lt_irg_lookup(od.a.top_map, od.a.sub_maps, 0, dims, LT_IRG_MAX_LEVEL, x, y, z);
+        lt_i32 in_full = lt_irg_lookup(full.a.top_map, full.a.sub_maps, 0, dims, LT_IRG_MAX_LEVEL, x, y, z);
+        const lt_irg_cell *a = &od.a.cells[in_od], *b = &full.a.cells[in_full];
         assert_memory_equal(a->lo, b->lo, sizeof a->lo);
         assert_memory_equal(a->hi, b->hi, sizeof a->hi);
         assert_int_equal(a->end - a->begin, b->end - b->begin);

@@ -68,7 +68,7 @@ typedef struct lt_irg_view {
   LT_GLOBAL const lt_grid_header *header; /* the fine grid */
   LT_GLOBAL const lt_i32 *top_map, *sub_maps, *refs;
   LT_GLOBAL const lt_irg_cell *cells;     /* the cells as built */
-  LT_GLOBAL const lt_irg_cell16 *cells16; /* or, when not NULL, a compacted grid's 16-byte cells (lists packed) */
+  LT_GLOBAL const lt_irg_cell16 *cells16; /* or, when not NULL, a compacted grid's 16-byte cells (lists, maps packed) */
   LT_GLOBAL const float *verts;
   const lt_pool *pool; /* on demand: where unbuilt top cells are requested; NULL when all are built */
   lt_int4 fine_dims;
@@ -121,7 +121,8 @@ LT_DEVICE void lt_irg_voxel_at(const lt_irg_ray *q, int ux, int uy, int uz, int 
 LT_DEVICE lt_i32 lt_irg_cell_at(const lt_irg_view *v, const lt_irg_ray *q, int ux, int uy, int uz) {
   int x[3];
   lt_irg_voxel_at(q, ux, uy, uz, x);
-  return lt_irg_lookup(v->top_map, v->sub_maps, v->fine_dims, v->shift, x[0], x[1], x[2]);
+  return lt_irg_lookup(v->top_map, v->sub_maps, LT_IRG_CELL16_ONLY || v->cells16, v->fine_dims, v->shift, x[0], x[1],
+                       x[2]);
 }
 
 /* Where the ray crosses a cell box's far face on axis k (infinity where it runs parallel). */
