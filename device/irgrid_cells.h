@@ -13,8 +13,9 @@
  *                -1     the top level is still being counted (wait)
  *                <= -2  not built yet: -2 - slot, the pool slot of the task that builds it
  *   sub_maps   per built top cell, 8^level cell numbers, sub-voxels x fastest; once a full
- *              build is compacted, an entry may instead be -1 - i: the sub-voxel is cut in
- *              eight, whose entries (of the same two kinds) are sub_maps[i .. i + 8), x fastest;
+ *              build is compacted, an entry at index i may instead be -k: the sub-voxel is cut
+ *              in eight, whose entries (of the same two kinds) are sub_maps[i + k .. i + k + 8),
+ *              x fastest (k is below 2^16: a top cell's octree is smaller);
  *              behind lt_irg_cell16 the entries are packed in 3 bytes each (lt_irg_map_entry)
  *   cells      lt_irg_cell: the box the traversal leaves through and the cell's references; a
  *              compacted grid whose fine grid fits 16 bits a side holds lt_irg_cell16 instead
@@ -50,8 +51,9 @@ typedef struct lt_irg_cell {
 
 /* One cell of a compacted grid whose fine grid is at most LT_IRG_CELL16_MAX voxels a side:
  * 16 bytes. Its list is packed (lt_irg_list_pack): the count comes first, so the cell needs no
- * end, and cells with equal lists still share one. Compaction keeps lt_irg_cell, lists as they
- * were, for larger fine grids (the builder allows 2^24 a side). */
+ * end, and cells with equal lists still share one. Compaction keeps lt_irg_cell, 32-bit lists
+ * and map entries for larger fine grids (the builder allows 2^24 a side), and for grids of more
+ * than LT_IRG_MAP24_MAX cells. */
 typedef struct lt_irg_cell16 {
   lt_u16 lo[3], hi[3]; /* 12 bytes: the box, fine voxels [lo, hi) on each axis */
   lt_i32 list;         /* 4 bytes: the byte offset of its packed list in refs */
@@ -93,8 +95,10 @@ LT_DEVICE lt_irg_cell lt_irg_cell_get(LT_GLOBAL const lt_irg_cell *cells, LT_GLO
  * bit set on every byte but the last; the fourth byte, if any, is the last and holds 8 bits, so a
  * number is below 2^29. Hair and other thin geometry reference short runs of triangles with small
  * steps between them (hairball:3000: 7.09M references in 3.08M runs, 58% one after the one
- * before): 0.9 bytes a reference there, and a token decodes a run at a time. Runs of up to four
- * made the fewest bytes on hairball:3000 and sphere:6 (2, 8 and 16 were within 6% of it). */
+ * before): 0.9 bytes a reference there (1.0 with the counts), and a token decodes a run at a
+ * time. Runs of up to four take the fewest bytes on sphere:6; up to eight would take 5% fewer
+ * on hairball:3000 and 8% fewer on hairball:10000 but 5% more on sphere:6; up to two, 13% more
+ * on hairball:3000. */
 #define LT_IRG_RUN 4
 /* Triangle numbers (and counts) a packed list holds: t * LT_IRG_RUN + 3 must stay below 2^29. */
 #define LT_IRG_PACK_MAX (1 << 26)
@@ -174,8 +178,8 @@ LT_DEVICE lt_i32 lt_irg_top_of(lt_int4 fine_dims, int shift, int x, int y, int z
   return lt_grid_cell_index(tx, ty, x >> shift, y >> shift, z >> shift);
 }
 
-/* A compacted grid with 16-byte cells (whose cells and sub-maps both number fewer than
- * LT_IRG_MAP24_MAX) holds its sub-map entries in 3 bytes each, little-endian, as two's
+/* A compacted grid with 16-byte cells (whose cells number at most LT_IRG_MAP24_MAX) holds its
+ * sub-map entries in 3 bytes each, little-endian, as two's
  * complement 24-bit numbers, with one byte after the last: entry i is at byte 3 * i. Elsewhere
  * an entry is an lt_i32. */
 #define LT_IRG_MAP24_MAX (1 << 23)
@@ -204,13 +208,15 @@ LT_DEVICE lt_i32 lt_irg_lookup(LT_GLOBAL const lt_i32 *top_map, LT_GLOBAL const 
   if (entry < 0) return entry;
   int level = LT_IRG_ENTRY_LEVEL(entry), down = shift - level, mask = (1 << level) - 1;
   int sx = (x >> down) & mask, sy = (y >> down) & mask, sz = (z >> down) & mask;
-  lt_i32 cell = lt_irg_map_entry(sub_maps, packed, LT_IRG_ENTRY_BASE(entry) + sx + ((sy + (sz << level)) << level));
-  /* A compacted sub-map is an octree below its own level: a negative entry leads to the eight
-   * sub-voxels of half the width that make up its sub-voxel, at sub_maps[-1 - entry], x fastest. */
+  lt_i32 at = LT_IRG_ENTRY_BASE(entry) + sx + ((sy + (sz << level)) << level);
+  lt_i32 cell = lt_irg_map_entry(sub_maps, packed, at);
+  /* A compacted sub-map is an octree below its own level: a negative entry -k at index at leads
+   * to the eight sub-voxels of half the width that make up its sub-voxel, at sub_maps[at + k],
+   * x fastest. */
   while (cell < 0) {
     down--;
-    cell = lt_irg_map_entry(sub_maps, packed,
-                            -1 - cell + ((x >> down) & 1) + 2 * ((y >> down) & 1) + 4 * ((z >> down) & 1));
+    at += -cell + ((x >> down) & 1) + 2 * ((y >> down) & 1) + 4 * ((z >> down) & 1);
+    cell = lt_irg_map_entry(sub_maps, packed, at);
   }
   return cell;
 }

@@ -11,7 +11,7 @@
  * LT_IRG_CELL16_MAX voxels a side (every Table 1 scene's is), the cells are written as
  * lt_irg_cell16, half the bytes, the lists packed (count first, then the steps between
  * triangles as varints: lt_irg_list_pack) and the sub-map entries in 3 bytes; larger fine grids
- * (or grids of more than 2^23 cells or sub-map entries) keep lt_irg_cell, lists of 32-bit
+ * (or grids of more than 2^23 cells) keep lt_irg_cell, lists of 32-bit
  * triangle numbers and 32-bit entries, which only the trace kernel of a finished grid and the
  * host copy (lt__irgrid_read) tell apart. The build's scratch buffers and the task pool go too.
  * Done on the host: it runs once per full build, after the last launch, and keeps the device
@@ -106,8 +106,10 @@ static size_t octree_size(const octree *o, int x, int y, int z, int width) {
   return size;
 }
 
-/* The entry for one block: its cell's new number, or -1 - where its eight halves go. */
-static lt_i32 octree_entry(octree *o, int x, int y, int z, int width) {
+/* The entry for one block, to be written at sub-map index at: its cell's new number, or -k, its
+ * eight halves going at at + k. They go after every entry written so far, within the top cell's
+ * own entries, which are never more than its flat sub-map's (at most 8^5): k is below 2^15. */
+static lt_i32 octree_entry(octree *o, lt_i32 at, int x, int y, int z, int width) {
   if (uniform(o, x, y, z, width)) {
     lt_i32 old = o->map[x + o->side * (y + o->side * z)];
     if (o->renumber[old] < 0) {
@@ -122,8 +124,8 @@ static lt_i32 octree_entry(octree *o, int x, int y, int z, int width) {
   int half = width / 2;
   for (int oct = 0; oct < 8; oct++)
     o->c->sub_maps[node + oct] =
-        octree_entry(o, x + (oct & 1) * half, y + (oct >> 1 & 1) * half, z + (oct >> 2) * half, half);
-  return -1 - node;
+        octree_entry(o, node + oct, x + (oct & 1) * half, y + (oct >> 1 & 1) * half, z + (oct >> 2) * half, half);
+  return at - node;
 }
 
 /* Packs the lists of c's cells (laid end to end in c->refs, a cell whose list an earlier one
@@ -155,8 +157,8 @@ static lt_status pack_lists(compacted *c, const lt_i32 *owner, int *fits) {
 }
 
 /* The sub-maps' entries in 3 bytes each (lt_irg_map_entry), with a byte after the last; every
- * entry, a cell number or -1 - an entry's index, fits 24 bits when cells and entries number at
- * most LT_IRG_MAP24_MAX. */
+ * entry, a cell number or minus the step to an octree node (below 2^16), fits 24 bits when
+ * cells number at most LT_IRG_MAP24_MAX. */
 static lt_status pack_map(compacted *c) {
   size_t bytes = 3 * (size_t)c->sub_count + 1;
   c->map_words = (int)((bytes + 3) / 4);
@@ -214,7 +216,7 @@ static lt_status compact_arrays(const lt__irgrid *g, lt__irgrid_arrays *a, int n
     c->sub_count += side * side * side;
     for (int s = 0; s < side * side * side; s++)
       c->sub_maps[base + s] =
-          octree_entry(&o, s % side * width, s / side % side * width, s / (side * side) * width, width);
+          octree_entry(&o, base + s, s % side * width, s / side % side * width, s / (side * side) * width, width);
   }
   free(renumber);
   size_t refs = o.refs;
@@ -248,7 +250,7 @@ static lt_status compact_arrays(const lt__irgrid *g, lt__irgrid_arrays *a, int n
     table[s] = i;
   }
   free(table);
-  if (!narrow || c->cell_count > LT_IRG_MAP24_MAX || c->sub_count > LT_IRG_MAP24_MAX) {
+  if (!narrow || c->cell_count > LT_IRG_MAP24_MAX) {
     free(owner);
     c->narrow = 0;
     return LT_OK;
