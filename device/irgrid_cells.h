@@ -15,7 +15,7 @@
  *   sub_maps   per built top cell, 8^level cell numbers, sub-voxels x fastest; once a full
  *              build is compacted, an entry at index i may instead be -k: the sub-voxel is cut
  *              in eight, whose entries (of the same two kinds) are sub_maps[i + k .. i + k + 8),
- *              x fastest (k is below 2^16: a top cell's octree is smaller);
+ *              x fastest (k is below 2^15: a top cell's octree is smaller);
  *              behind lt_irg_cell16 the entries are packed in 3 bytes each (lt_irg_map_entry)
  *   cells      lt_irg_cell: the box the traversal leaves through and the cell's references; a
  *              compacted grid whose fine grid fits 16 bits a side holds lt_irg_cell16 instead

@@ -11,9 +11,9 @@
  * LT_IRG_CELL16_MAX voxels a side (every Table 1 scene's is), the cells are written as
  * lt_irg_cell16, half the bytes, the lists packed (count first, then the steps between
  * triangles as varints: lt_irg_list_pack) and the sub-map entries in 3 bytes; larger fine grids
- * (or grids of more than 2^23 cells) keep lt_irg_cell, lists of 32-bit
- * triangle numbers and 32-bit entries, which only the trace kernel of a finished grid and the
- * host copy (lt__irgrid_read) tell apart. The build's scratch buffers and the task pool go too.
+ * (or grids of more than 2^23 cells) keep lt_irg_cell, lists of 32-bit triangle numbers and
+ * 32-bit entries, which only the trace kernel of a finished grid and the host copy
+ * (lt__irgrid_read) tell apart. The build's scratch buffers and the task pool go too.
  * Done on the host: it runs once per full build, after the last launch, and keeps the device
  * kernel (which PoCL's LLVM already finds hard to compile) as it is. */
 #include <stdlib.h>
@@ -157,7 +157,7 @@ static lt_status pack_lists(compacted *c, const lt_i32 *owner, int *fits) {
 }
 
 /* The sub-maps' entries in 3 bytes each (lt_irg_map_entry), with a byte after the last; every
- * entry, a cell number or minus the step to an octree node (below 2^16), fits 24 bits when
+ * entry, a cell number or minus the step to an octree node (below 2^15), fits 24 bits when
  * cells number at most LT_IRG_MAP24_MAX. */
 static lt_status pack_map(compacted *c) {
   size_t bytes = 3 * (size_t)c->sub_count + 1;
