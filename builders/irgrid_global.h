@@ -52,7 +52,7 @@ LT_DEVICE void lt_irg_global_candidate(const lt_irg_build *b, lt_i32 j, int a) {
   if (lt_irg_dead(c) || c->hi[a] >= n_a) return;
   int at[3] = {c->lo[0], c->lo[1], c->lo[2]};
   at[a] = c->hi[a];
-  lt_i32 n = lt_irg_lookup(b->top_map, b->sub_maps, b->fine_dims, b->shift, at[0], at[1], at[2]);
+  lt_i32 n = lt_irg_lookup(b->top_map, b->sub_maps, 0, b->fine_dims, b->shift, at[0], at[1], at[2]);
   if (n < 0) return;
   LT_GLOBAL const lt_irg_cell *d = &b->cells[n];
   for (int k = 0; k < 3; k++)

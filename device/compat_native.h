@@ -27,6 +27,7 @@ typedef struct lt_int4 {
 } lt_int4;
 typedef uint32_t lt_u32;
 typedef uint16_t lt_u16;
+typedef uint8_t lt_u8;
 
 /* Four floats (and ints) as one SIMD value, for the builders' box arithmetic: the GCC/Clang
  * vector extension here, float4 and int4 in OpenCL. Lanes are read with lt_v4_lane. */

@@ -20,6 +20,7 @@ typedef float4 lt_float4;
 typedef int4 lt_int4;
 typedef uint lt_u32;
 typedef ushort lt_u16;
+typedef uchar lt_u8;
 typedef int lt_i32;
 
 /* Four floats (and ints) as one SIMD value (see compat_native.h). */

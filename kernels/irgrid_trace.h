@@ -17,7 +17,7 @@ typedef struct lt_irg_trace_view {
   LT_GLOBAL const float *verts;
   lt_int4 fine_dims;
   lt_i32 shift;
-  lt_i32 narrow; /* 1: the cells are a compacted grid's lt_irg_cell16, their lists count first */
+  lt_i32 narrow; /* 1: the cells are a compacted grid's lt_irg_cell16, their lists packed */
 } lt_irg_trace_view;
 
 #define LT_IRG_TRACE_ARGS(X)                 \

@@ -9,9 +9,11 @@
  * list copied after the previous one's (or sharing an earlier cell's equal list), and each sub-map
  * rewritten as the octree of fewest entries below its level. When the fine grid is at most
  * LT_IRG_CELL16_MAX voxels a side (every Table 1 scene's is), the cells are written as
- * lt_irg_cell16, half the bytes, each list preceded by its count; larger fine grids keep
- * lt_irg_cell and lists as they were, which only the trace kernel of a finished grid and the
- * host copy (lt__irgrid_read) tell apart. The build's scratch buffers and the task pool go too.
+ * lt_irg_cell16, half the bytes, the lists packed (count first, then the steps between
+ * triangles as varints: lt_irg_list_pack) and the sub-map entries in 3 bytes; larger fine grids
+ * (or grids of more than 2^23 cells) keep lt_irg_cell, lists of 32-bit triangle numbers and
+ * 32-bit entries, which only the trace kernel of a finished grid and the host copy
+ * (lt__irgrid_read) tell apart. The build's scratch buffers and the task pool go too.
  * Done on the host: it runs once per full build, after the last launch, and keeps the device
  * kernel (which PoCL's LLVM already finds hard to compile) as it is. */
 #include <stdlib.h>
@@ -23,19 +25,24 @@
 /* The compact arrays, built on the host from a copy of the grid's. */
 typedef struct compacted {
   lt_i32 *top_map, *sub_maps, *refs;
-  lt_irg_cell *cells;     /* begin and end bound a list's triangles (after its count, if narrow) */
+  lt_irg_cell *cells;     /* begin and end bound a list's triangles in refs */
   lt_irg_cell16 *cells16; /* narrow: the cells as uploaded */
-  int narrow;             /* lists count first, cells16 made */
-  int sub_count, cell_count, ref_count;
+  lt_u8 *packed;          /* narrow: the lists as uploaded, packed_words 32-bit words */
+  lt_u8 *map24;           /* narrow: the sub-maps as uploaded (3 bytes an entry), map_words 32-bit words */
+  int narrow;             /* cells16, packed and map24 made */
+  int sub_count, cell_count, ref_count, packed_words, map_words;
 } compacted;
 
 static void compacted_free(compacted *c) {
-  free(c->top_map), free(c->sub_maps), free(c->refs), free(c->cells), free(c->cells16);
+  free(c->top_map), free(c->sub_maps), free(c->refs), free(c->cells), free(c->cells16), free(c->packed);
+  free(c->map24);
 }
 
-/* Whether the cells of a fine grid of these dimensions fit lt_irg_cell16. */
-static int fits_cell16(lt_int4 dims) {
-  return dims.x <= LT_IRG_CELL16_MAX && dims.y <= LT_IRG_CELL16_MAX && dims.z <= LT_IRG_CELL16_MAX;
+/* Whether the cells of a fine grid of these dimensions fit lt_irg_cell16, and the triangle
+ * numbers of a scene of count triangles a packed list. */
+static int fits_cell16(lt_int4 dims, int count) {
+  return dims.x <= LT_IRG_CELL16_MAX && dims.y <= LT_IRG_CELL16_MAX && dims.z <= LT_IRG_CELL16_MAX &&
+         count <= LT_IRG_PACK_MAX;
 }
 
 /* Rewrites a top cell's sub-map map[] of the given level at the coarsest level that says the
@@ -99,8 +106,10 @@ static size_t octree_size(const octree *o, int x, int y, int z, int width) {
   return size;
 }
 
-/* The entry for one block: its cell's new number, or -1 - where its eight halves go. */
-static lt_i32 octree_entry(octree *o, int x, int y, int z, int width) {
+/* The entry for one block, to be written at sub-map index at: its cell's new number, or -k, its
+ * eight halves going at at + k. They go after every entry written so far, within the top cell's
+ * own entries, which are never more than its flat sub-map's (at most 8^5): k is below 2^15. */
+static lt_i32 octree_entry(octree *o, lt_i32 at, int x, int y, int z, int width) {
   if (uniform(o, x, y, z, width)) {
     lt_i32 old = o->map[x + o->side * (y + o->side * z)];
     if (o->renumber[old] < 0) {
@@ -115,12 +124,56 @@ static lt_i32 octree_entry(octree *o, int x, int y, int z, int width) {
   int half = width / 2;
   for (int oct = 0; oct < 8; oct++)
     o->c->sub_maps[node + oct] =
-        octree_entry(o, x + (oct & 1) * half, y + (oct >> 1 & 1) * half, z + (oct >> 2) * half, half);
-  return -1 - node;
+        octree_entry(o, node + oct, x + (oct & 1) * half, y + (oct >> 1 & 1) * half, z + (oct >> 2) * half, half);
+  return at - node;
+}
+
+/* Packs the lists of c's cells (laid end to end in c->refs, a cell whose list an earlier one
+ * holds pointing at that one's, owner[i] the cell whose list cell i reads) and makes the 16-byte
+ * cells. *fits is 0 when the packed lists pass what a cell's offset holds: the cells stay wide. */
+static lt_status pack_lists(compacted *c, const lt_i32 *owner, int *fits) {
+  size_t room = 4 * ((size_t)c->cell_count + (size_t)c->ref_count) + 4;
+  c->packed = calloc(room, 1);
+  c->cells16 = malloc(((size_t)c->cell_count + 1) * sizeof *c->cells16);
+  if (!c->packed || !c->cells16)
+    return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory packing %d cells", c->cell_count);
+  size_t size = 0;
+  *fits = 1;
+  for (int i = 0; i < c->cell_count && *fits; i++) {
+    const lt_irg_cell *cell = &c->cells[i];
+    lt_irg_cell16 *n = &c->cells16[i];
+    /* Each box's coordinates are at most the fine grid's side. */
+    for (int k = 0; k < 3; k++) n->lo[k] = (lt_u16)cell->lo[k], n->hi[k] = (lt_u16)cell->hi[k];
+    if (owner[i] < i) {
+      n->list = c->cells16[owner[i]].list;
+      continue;
+    }
+    n->list = (lt_i32)size;
+    size += (size_t)lt_irg_list_pack(c->refs + cell->begin, cell->end - cell->begin, c->packed + size);
+    *fits = size <= (size_t)0x7ffffffc;
+  }
+  c->packed_words = (int)((size + 3) / 4);
+  return LT_OK;
+}
+
+/* The sub-maps' entries in 3 bytes each (lt_irg_map_entry), with a byte after the last; every
+ * entry, a cell number or minus the step to an octree node (below 2^15), fits 24 bits when
+ * cells number at most LT_IRG_MAP24_MAX. */
+static lt_status pack_map(compacted *c) {
+  size_t bytes = 3 * (size_t)c->sub_count + 1;
+  c->map_words = (int)((bytes + 3) / 4);
+  c->map24 = calloc((size_t)c->map_words, 4);
+  if (!c->map24) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory packing %d voxel map entries", c->sub_count);
+  for (int i = 0; i < c->sub_count; i++) {
+    lt_u32 e = (lt_u32)c->sub_maps[i];
+    for (int b = 0; b < 3; b++) c->map24[3 * (size_t)i + (size_t)b] = (lt_u8)(e >> (8 * b));
+  }
+  return LT_OK;
 }
 
 /* Renumbers the live cells of a (every top cell built; its sub-maps are coarsened in place)
- * and lays out the compact arrays, narrow (lt_irg_cell16, lists count first) or not. */
+ * and lays out the compact arrays, narrow (lt_irg_cell16, lists and map entries packed) or not
+ * (nor where they do not fit). */
 static lt_status compact_arrays(const lt__irgrid *g, lt__irgrid_arrays *a, int narrow, compacted *c) {
   memset(c, 0, sizeof *c);
   c->narrow = narrow;
@@ -163,20 +216,20 @@ static lt_status compact_arrays(const lt__irgrid *g, lt__irgrid_arrays *a, int n
     c->sub_count += side * side * side;
     for (int s = 0; s < side * side * side; s++)
       c->sub_maps[base + s] =
-          octree_entry(&o, s % side * width, s / side % side * width, s / (side * side) * width, width);
+          octree_entry(&o, base + s, s % side * width, s / side % side * width, s / (side * side) * width, width);
   }
   free(renumber);
   size_t refs = o.refs;
 
-  /* Each live cell's list after the previous one's (narrow: its count first), or, when an earlier
-   * cell holds the very same list, that cell's: readers only read it, never write it. */
-  if (narrow) refs += (size_t)c->cell_count;
+  /* Each live cell's list after the previous one's, or, when an earlier cell holds the very
+   * same list, that cell's: readers only read it, never write it. */
   c->refs = malloc((refs + 1) * sizeof *c->refs);
   size_t slots = 1;
   while (slots < 2 * (size_t)c->cell_count + 2) slots *= 2;
   lt_i32 *table = malloc(slots * sizeof *table);
-  if (!c->refs || !table) {
-    free(table), compacted_free(c);
+  lt_i32 *owner = malloc(((size_t)c->cell_count + 1) * sizeof *owner);
+  if (!c->refs || !table || !owner) {
+    free(table), free(owner), compacted_free(c);
     return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory compacting %zu references", refs);
   }
   for (size_t s = 0; s < slots; s++) table[s] = -1;
@@ -186,32 +239,29 @@ static lt_status compact_arrays(const lt__irgrid *g, lt__irgrid_arrays *a, int n
     int length = cell->end - cell->begin;
     size_t s = list_hash(list, length) & (slots - 1);
     while (table[s] >= 0 && !same_list(&c->cells[table[s]], c->refs, list, length)) s = (s + 1) & (slots - 1);
+    owner[i] = table[s] >= 0 ? table[s] : i;
     if (table[s] >= 0) {
       cell->begin = c->cells[table[s]].begin, cell->end = c->cells[table[s]].end;
       continue;
     }
-    if (narrow) c->refs[c->ref_count++] = length;
     memcpy(c->refs + c->ref_count, list, (size_t)length * sizeof *c->refs);
     cell->begin = c->ref_count, cell->end = c->ref_count + length;
     c->ref_count += length;
     table[s] = i;
   }
   free(table);
-  if (!narrow) return LT_OK;
+  if (!narrow || c->cell_count > LT_IRG_MAP24_MAX) {
+    free(owner);
+    c->narrow = 0;
+    return LT_OK;
+  }
 
-  /* The 16-byte cells: each box's coordinates are at most the fine grid's side. */
-  c->cells16 = malloc(((size_t)c->cell_count + 1) * sizeof *c->cells16);
-  if (!c->cells16) {
-    compacted_free(c);
-    return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory compacting %d cells", c->cell_count);
-  }
-  for (int i = 0; i < c->cell_count; i++) {
-    const lt_irg_cell *cell = &c->cells[i];
-    lt_irg_cell16 *n = &c->cells16[i];
-    for (int k = 0; k < 3; k++) n->lo[k] = (lt_u16)cell->lo[k], n->hi[k] = (lt_u16)cell->hi[k];
-    n->list = cell->begin - 1;
-  }
-  return LT_OK;
+  /* The 16-byte cells, packed lists and 3-byte map entries, unless the lists pass 2^31 bytes. */
+  lt_status status = pack_lists(c, owner, &c->narrow);
+  free(owner);
+  if (!status && c->narrow) status = pack_map(c);
+  if (status) compacted_free(c);
+  return status;
 }
 
 lt_status lt__irgrid_compact(lt__irgrid *g) {
@@ -219,16 +269,18 @@ lt_status lt__irgrid_compact(lt__irgrid *g) {
   lt_status status = lt__irgrid_read(g, &a);
   if (status) return status;
   compacted c;
-  status = compact_arrays(g, &a, fits_cell16(g->fine.dims), &c);
+  status = compact_arrays(g, &a, fits_cell16(g->fine.dims, g->count), &c);
   lt__irgrid_arrays_free(&a);
   if (status) return status;
 
   /* New buffers first: should one fail, the grid is left whole as it was. */
   lt__buffer fresh[4];
-  const void *data[4] = {c.top_map, c.sub_maps, c.narrow ? (const void *)c.cells16 : c.cells, c.refs};
+  const void *data[4] = {c.top_map, c.narrow ? (const void *)c.map24 : c.sub_maps,
+                         c.narrow ? (const void *)c.cells16 : c.cells, c.narrow ? (const void *)c.packed : c.refs};
   size_t cell_size = c.narrow ? sizeof *c.cells16 : sizeof *c.cells;
-  size_t bytes[4] = {(size_t)g->top_count * sizeof *c.top_map, (size_t)c.sub_count * sizeof *c.sub_maps,
-                     (size_t)c.cell_count * cell_size, (size_t)c.ref_count * sizeof *c.refs};
+  int map_words = c.narrow ? c.map_words : c.sub_count, ref_words = c.narrow ? c.packed_words : c.ref_count;
+  size_t bytes[4] = {(size_t)g->top_count * sizeof *c.top_map, (size_t)map_words * sizeof *c.sub_maps,
+                     (size_t)c.cell_count * cell_size, (size_t)ref_words * sizeof *c.refs};
   int made = 0;
   while (!status && made < 4) {
     status = lt__buffer_create(g->ctx, &fresh[made], bytes[made], data[made], 0);
@@ -245,7 +297,7 @@ lt_status lt__irgrid_compact(lt__irgrid *g) {
 
   /* The heaps say what they hold now. */
   lt__heap *heaps[3] = {&g->map_heap, &g->cell_heap, &g->ref_heap};
-  int units[3] = {c.sub_count, c.cell_count, c.ref_count};
+  int units[3] = {map_words, c.cell_count, ref_words};
   compacted_free(&c);
   for (int i = 0; i < 3 && !status; i++) {
     heaps[i]->capacity = units[i];

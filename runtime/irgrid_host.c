@@ -266,21 +266,79 @@ void lt__irgrid_arrays_free(lt__irgrid_arrays *a) {
   memset(a, 0, sizeof *a);
 }
 
-/* A compacted grid's 16-byte cells into out->cells, as lt_irg_cell (out->refs read already). */
+/* A compacted grid's 16-byte cells and packed lists into out->cells and out->refs (which holds
+ * the packed words on entry), as lt_irg_cell and lists of 32-bit triangle numbers laid end to end:
+ * each packed list decoded once, where a cell first reads it; the cells that share it point at
+ * that copy. */
 static lt_status read_cells16(lt__irgrid *g, lt__irgrid_arrays *out) {
+  size_t size = (size_t)out->ref_count * 4;
   lt_irg_cell16 *narrow = malloc(((size_t)out->cell_count + 1) * sizeof *narrow);
-  if (!narrow) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory copying an irregular grid");
+  lt_u8 *packed = calloc(size + 4, 1);                /* the zeros after it end any varint begun inside */
+  lt_i32 *first = malloc((size + 1) * sizeof *first); /* by byte offset: the cell that first read the list there */
+  size_t room = size + 1, fill = 0;
+  lt_i32 *refs = malloc(room * sizeof *refs);
+  if (!narrow || !packed || !first || !refs) {
+    free(narrow), free(packed), free(first), free(refs);
+    return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory copying an irregular grid");
+  }
+  memcpy(packed, out->refs, size);
+  for (size_t b = 0; b <= size; b++) first[b] = -1;
   lt_status status = lt__buffer_read(g->ctx, &g->cells, 0, (size_t)out->cell_count * sizeof *narrow, narrow);
   for (int i = 0; !status && i < out->cell_count; i++) {
-    lt_irg_cell16 *n = &narrow[i];
-    if (n->list < 0 || n->list >= out->ref_count || out->refs[n->list] < 0 ||
-        out->refs[n->list] > out->ref_count - n->list - 1)
+    lt_irg_cell cell = lt_irg_cell_get(NULL, narrow, i);
+    if (cell.begin < 0 || (size_t)cell.begin >= size) {
       status = lt__fail(LT_ERROR_INVALID_ARGUMENT, "compacted cell %d's list is out of bounds", i);
-    else
-      out->cells[i] = lt_irg_cell_get(NULL, narrow, out->refs, i);
+      break;
+    }
+    lt_i32 *earlier = &first[cell.begin];
+    if (*earlier >= 0) {
+      cell.begin = out->cells[*earlier].begin, cell.end = out->cells[*earlier].end;
+      out->cells[i] = cell;
+      continue;
+    }
+    /* A list read for the first time: decoded through the traversal's own reader. */
+    lt_irg_list list = lt_irg_list_open((const lt_i32 *)packed, 1, &cell);
+    if (list.left < 0 || list.left > LT_IRG_PACK_MAX) {
+      status = lt__fail(LT_ERROR_INVALID_ARGUMENT, "compacted cell %d's list has a bad count", i);
+      break;
+    }
+    if (fill + (size_t)list.left > room) {
+      room = 2 * (fill + (size_t)list.left);
+      lt_i32 *more = realloc(refs, room * sizeof *refs);
+      if (!more) {
+        status = lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory copying an irregular grid");
+        break;
+      }
+      refs = more;
+    }
+    cell.begin = cell.end = (lt_i32)fill;
+    while (list.left > 0 && (size_t)list.at <= size)
+      refs[cell.end++] = lt_irg_list_next((const lt_i32 *)packed, 1, &list);
+    if ((size_t)list.at > size)
+      status = lt__fail(LT_ERROR_INVALID_ARGUMENT, "compacted cell %d's list runs past the references", i);
+    fill = (size_t)cell.end;
+    out->cells[i] = cell, *earlier = i;
   }
-  free(narrow);
-  return status;
+  free(narrow), free(packed), free(first);
+  if (status) {
+    free(refs);
+    return status;
+  }
+  free(out->refs);
+  out->refs = refs, out->ref_count = (int)fill;
+  return LT_OK;
+}
+
+/* A compacted grid's packed sub-map entries (3 bytes each, out->sub_maps holding the words on
+ * entry) as lt_i32; the byte after the last may make one more entry, which nothing names. */
+static lt_status read_map24(lt__irgrid_arrays *out) {
+  int count = (4 * out->sub_count - 1) / 3;
+  lt_i32 *map = malloc(((size_t)count + 1) * sizeof *map);
+  if (!map) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory copying an irregular grid");
+  for (int i = 0; i < count; i++) map[i] = lt_irg_map_entry(out->sub_maps, 1, i);
+  free(out->sub_maps);
+  out->sub_maps = map, out->sub_count = count;
+  return LT_OK;
 }
 
 lt_status lt__irgrid_read(lt__irgrid *g, lt__irgrid_arrays *out) {
@@ -307,6 +365,7 @@ lt_status lt__irgrid_read(lt__irgrid *g, lt__irgrid_arrays *out) {
   if (!status && !g->narrow)
     status = lt__buffer_read(g->ctx, &g->cells, 0, (size_t)out->cell_count * sizeof(lt_irg_cell), out->cells);
   if (!status && g->narrow) status = read_cells16(g, out);
+  if (!status && g->narrow) status = read_map24(out);
   if (status) lt__irgrid_arrays_free(out);
   return status;
 }

@@ -35,7 +35,7 @@ typedef struct lt__irgrid {
   int top_dims[3], top_count, count;
   int shift; /* fine voxels per top cell: 2^shift per axis (0 for a uniform grid) */
   int compacted; /* lt__irgrid_compact ran: the top lists and the build's scratch are gone */
-  int narrow;    /* compacted into lt_irg_cell16 (the fine grid fits 16 bits a side), lists count first */
+  int narrow;    /* compacted into lt_irg_cell16 (the fine grid fits 16 bits a side), lists and map packed */
   lt__irgrid_config config;
   double totals[LT_IRG_STAT_COUNT]; /* the build's counters over all launches */
 } lt__irgrid;
@@ -60,8 +60,8 @@ lt_status lt__irgrid_trace_finished(lt__irgrid *g, const lt_ray *rays, int count
 /* Gives back what a finished grid no longer needs (runtime/irgrid_compact.c): cells and
  * lists that merging replaced, the top lists, the build's scratch, the task pool; the lists
  * that equal an earlier cell's shared, the sub-maps made octrees, and the cells made 16 bytes
- * (lt_irg_cell16, lists count first) when the fine grid is at most LT_IRG_CELL16_MAX a side
- * (else they keep lt_irg_cell). Every top cell must be built; traversal finds the same cells'
+ * (lt_irg_cell16, lists packed: lt_irg_list_pack, sub-map entries in 3 bytes) when the fine grid is at
+ * most LT_IRG_CELL16_MAX a side (else they keep lt_irg_cell). Every top cell must be built; traversal finds the same cells'
  * contents at the same voxels. On failure the grid is left as it was. */
 lt_status lt__irgrid_compact(lt__irgrid *g);
 /* Which heap the last launch ran out of, if any: 1 cells, 2 references, 3 sub-maps, 0 none. */
@@ -72,8 +72,9 @@ double lt__irgrid_bytes(lt__irgrid *g, double *cell_bytes, double *reference_byt
                         double *pool_bytes);
 /* A host copy of a grid's arrays (for tests that check cells and compare grids); free with
  * lt__irgrid_arrays_free. A compacted grid has no top lists: top_begin is all zero. Cells are
- * copied as lt_irg_cell whatever their layout: 16-byte cells' begin and end then bound the
- * triangles of their count-first lists, which refs holds as stored, counts included. */
+ * copied as lt_irg_cell whatever their layout, and lists as 32-bit triangle numbers: a
+ * compacted grid's packed lists are decoded, each once (cells that share a list share its
+ * copy), and ref_count counts the triangles decoded; its packed sub-maps are read as lt_i32. */
 typedef struct lt__irgrid_arrays {
   lt_i32 *top_map, *top_begin, *sub_maps, *refs;
   lt_irg_cell *cells;

@@ -151,7 +151,7 @@ static int check_cells(const lt_scene *scene, const built *b) {
     for (int s = 0; s < side * side * side; s++) {
       int v[3] = {(top[0] << shift) + s % side, (top[1] << shift) + (s / side) % side,
                   (top[2] << shift) + s / (side * side)};
-      lt_i32 id = lt_irg_lookup(b->a.top_map, b->a.sub_maps, h->dims, shift, v[0], v[1], v[2]);
+      lt_i32 id = lt_irg_lookup(b->a.top_map, b->a.sub_maps, 0, h->dims, shift, v[0], v[1], v[2]);
       assert_true(id >= 0 && id < b->a.cell_count);
       const lt_irg_cell *cell = &b->a.cells[id];
       for (int k = 0; k < 3; k++) assert_true(cell->lo[k] <= v[k] && v[k] < cell->hi[k]);
@@ -212,8 +212,8 @@ static void irgrid_cells_reference_exactly_what_meets_them(void **state) {
       fprintf(stderr, "irgrid %s, %s: %d top cells, %d cells hold exactly what meets them\n", scenes[s],
               settings[v].what, b.g->top_count, cells);
       assert_true(cells >= b.g->top_count);
-      /* A full build is compacted: every cell is some voxel's, the lists lie end to end, each
-       * after its count (these fine grids fit 16-byte cells), and a cell whose list an earlier
+      /* A full build is compacted: every cell is some voxel's, the lists are packed (these fine
+       * grids fit 16-byte cells) and read back end to end, and a cell whose list an earlier
        * cell holds already shares it. */
       assert_int_equal(cells, b.a.cell_count);
       assert_true(b.g->compacted && b.g->narrow);
@@ -221,8 +221,7 @@ static void irgrid_cells_reference_exactly_what_meets_them(void **state) {
       int at = 0;
       for (int c = 0; c < b.a.cell_count; c++) {
         const lt_irg_cell *cell = &b.a.cells[c];
-        assert_int_equal(b.a.refs[cell->begin - 1], cell->end - cell->begin);
-        if (cell->begin == at + 1) {
+        if (cell->begin == at) {
           at = cell->end;
           continue;
         }
@@ -235,6 +234,34 @@ static void irgrid_cells_reference_exactly_what_meets_them(void **state) {
     }
     lt_scene_destroy(scene);
   }
+}
+
+/* Packed lists read back exactly through the traversal's reader: the empty list, triangle 0
+ * alone, runs longer than a token holds, runs of exactly a token, steps that take one to four
+ * bytes, the largest triangle number a packed list holds, and a list after another in the bytes. */
+static void irgrid_packed_lists_read_back_exactly(void **state) {
+  (void)state;
+  static const lt_i32 run9[] = {5, 6, 7, 8, 9, 10, 11, 12, 13};
+  static const lt_i32 run4[] = {0, 1, 2, 3, 200, 201, 202, 203};
+  static const lt_i32 steps[] = {31, 32, 64, 8000, 8001, 2100000, 2100002, LT_IRG_PACK_MAX - 2, LT_IRG_PACK_MAX - 1};
+  static const lt_i32 zero[] = {0};
+  const lt_i32 *lists[] = {NULL, zero, run9, run4, steps};
+  int lengths[] = {0, 1, 9, 8, 9};
+  lt_u8 bytes[4 * 64];
+  lt_i32 words[64], offsets[5];
+  int size = 0;
+  for (int k = 0; k < 5; k++) offsets[k] = size, size += lt_irg_list_pack(lists[k], lengths[k], bytes + size);
+  assert_true(size <= (int)sizeof words);
+  memcpy(words, bytes, (size_t)size);
+  for (int k = 0; k < 5; k++) {
+    lt_irg_cell cell = {{0, 0, 0}, {1, 1, 1}, offsets[k], offsets[k]};
+    lt_irg_list list = lt_irg_list_open(words, 1, &cell);
+    assert_int_equal(list.left, lengths[k]);
+    for (int i = 0; i < lengths[k]; i++) assert_int_equal(lt_irg_list_next(words, 1, &list), lists[k][i]);
+    assert_int_equal(list.at, k + 1 < 5 ? offsets[k + 1] : size);
+  }
+  /* A run of nine is three tokens of one byte each, after the count. */
+  assert_int_equal(offsets[3] - offsets[2], 1 + 3);
 }
 
 /* A row of small triangles along x, one a unit, each within 0.5 of the axis on y and z: at a
@@ -343,8 +370,9 @@ static void irgrid_top_cells_built_on_demand_equal_the_full_build(void **state) 
         int x = (top[0] << LT_IRG_MAX_LEVEL) + s % side * step, y = (top[1] << LT_IRG_MAX_LEVEL) + s / side % side * step;
         int z = (top[2] << LT_IRG_MAX_LEVEL) + s / (side * side) * step;
         lt_int4 dims = full.g->fine.dims;
-        const lt_irg_cell *a = &od.a.cells[lt_irg_lookup(od.a.top_map, od.a.sub_maps, dims, LT_IRG_MAX_LEVEL, x, y, z)];
-        const lt_irg_cell *b = &full.a.cells[lt_irg_lookup(full.a.top_map, full.a.sub_maps, dims, LT_IRG_MAX_LEVEL, x, y, z)];
+        lt_i32 in_od = lt_irg_lookup(od.a.top_map, od.a.sub_maps, 0, dims, LT_IRG_MAX_LEVEL, x, y, z);
+        lt_i32 in_full = lt_irg_lookup(full.a.top_map, full.a.sub_maps, 0, dims, LT_IRG_MAX_LEVEL, x, y, z);
+        const lt_irg_cell *a = &od.a.cells[in_od], *b = &full.a.cells[in_full];
         assert_memory_equal(a->lo, b->lo, sizeof a->lo);
         assert_memory_equal(a->hi, b->hi, sizeof a->hi);
         assert_int_equal(a->end - a->begin, b->end - b->begin);
@@ -519,6 +547,7 @@ int main(void) {
       cmocka_unit_test(irgrid_statistics_are_filled),
       cmocka_unit_test(irgrid_bad_settings_are_refused),
       cmocka_unit_test(irgrid_cells_reference_exactly_what_meets_them),
+      cmocka_unit_test(irgrid_packed_lists_read_back_exactly),
       cmocka_unit_test(irgrid_fine_grid_beyond_16_bits_keeps_wide_cells),
       cmocka_unit_test(irgrid_top_cells_built_on_demand_equal_the_full_build),
       cmocka_unit_test(irgrid_builds_only_what_rays_reach),

@@ -68,7 +68,7 @@ typedef struct lt_irg_view {
   LT_GLOBAL const lt_grid_header *header; /* the fine grid */
   LT_GLOBAL const lt_i32 *top_map, *sub_maps, *refs;
   LT_GLOBAL const lt_irg_cell *cells;     /* the cells as built */
-  LT_GLOBAL const lt_irg_cell16 *cells16; /* or, when not NULL, a compacted grid's 16-byte cells */
+  LT_GLOBAL const lt_irg_cell16 *cells16; /* or, when not NULL, a compacted grid's 16-byte cells (lists, maps packed) */
   LT_GLOBAL const float *verts;
   const lt_pool *pool; /* on demand: where unbuilt top cells are requested; NULL when all are built */
   lt_int4 fine_dims;
@@ -121,7 +121,8 @@ LT_DEVICE void lt_irg_voxel_at(const lt_irg_ray *q, int ux, int uy, int uz, int 
 LT_DEVICE lt_i32 lt_irg_cell_at(const lt_irg_view *v, const lt_irg_ray *q, int ux, int uy, int uz) {
   int x[3];
   lt_irg_voxel_at(q, ux, uy, uz, x);
-  return lt_irg_lookup(v->top_map, v->sub_maps, v->fine_dims, v->shift, x[0], x[1], x[2]);
+  return lt_irg_lookup(v->top_map, v->sub_maps, LT_IRG_CELL16_ONLY || v->cells16, v->fine_dims, v->shift, x[0], x[1],
+                       x[2]);
 }
 
 /* Where the ray crosses a cell box's far face on axis k (infinity where it runs parallel). */
@@ -151,19 +152,23 @@ LT_DEVICE int lt_irg_test_cell(const lt_irg_view *v, lt_irg_ray *q, lt_i32 cell,
   q->recent[q->recent_next] = cell;
   q->recent_next = (q->recent_next + 1) & (LT_IRG_RECENT - 1);
   c->traversal_steps++;
+  int packed = LT_IRG_CELL16_ONLY || v->cells16;
+  lt_irg_list list = lt_irg_list_open(v->refs, packed, p);
 #if LT_IRG_WATERTIGHT4
   /* Natively, a cell of two or more triangles takes them four at a time (the same hits). */
-  if (p->end - p->begin >= 2 && !(q->r.flags & LT_QUERY_FLAG_FAST_TRIANGLES)) {
-    for (lt_i32 i = p->begin; i < p->end; i += 4) {
-      int n = p->end - i < 4 ? p->end - i : 4;
+  if (list.left >= 2 && !(q->r.flags & LT_QUERY_FLAG_FAST_TRIANGLES)) {
+    while (list.left > 0) {
+      lt_i32 prims[4];
+      int n = list.left < 4 ? list.left : 4;
+      for (int i = 0; i < n; i++) prims[i] = lt_irg_list_next(v->refs, packed, &list);
       c->intersections += n;
-      if (lt_watertight4(&q->r, &q->r4, v->verts, v->refs + i, n, any_hit, &q->hit)) return 1;
+      if (lt_watertight4(&q->r, &q->r4, v->verts, prims, n, any_hit, &q->hit)) return 1;
     }
     return 0;
   }
 #endif
-  for (lt_i32 i = p->begin; i < p->end; i++) {
-    lt_i32 prim = v->refs[i];
+  while (list.left > 0) {
+    lt_i32 prim = lt_irg_list_next(v->refs, packed, &list);
     LT_GLOBAL const float *t = v->verts + 9 * (long)prim;
     float v0[3] = {t[0], t[1], t[2]}, v1[3] = {t[3], t[4], t[5]}, v2[3] = {t[6], t[7], t[8]};
     c->intersections++;
@@ -250,7 +255,7 @@ LT_DEVICE int lt_irg_visit(const lt_irg_view *v, lt_irg_ray *q, const int *lo, c
         lt_i32 cell = lt_irg_cell_at(v, q, ux, uy, uz);
         if (cell < 0) return lt_irg_wait(v, q, ux, uy, uz, cell);
         q->wait = -1;
-        lt_irg_cell p = lt_irg_cell_get(v->cells, v->cells16, v->refs, cell);
+        lt_irg_cell p = lt_irg_cell_get(v->cells, v->cells16, cell);
         if (lt_irg_test_cell(v, q, cell, &p, any_hit, c)) {
           q->state = LT_IRG_RAY_DONE;
           return 1;
@@ -337,7 +342,7 @@ LT_DEVICE int lt_irg_advance(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_
     /* Skip every boundary before T. If the last voxel's cell holds all the ranges now, it
      * covers the voxels left behind by the next boundary. */
     for (int k = 0; k < 3; k++) lt_irg_skip_axis(&q->w[k], &q->r, k, T, widen);
-    lt_irg_cell box = lt_irg_cell_get(v->cells, v->cells16, v->refs, newest);
+    lt_irg_cell box = lt_irg_cell_get(v->cells, v->cells16, newest);
     q->cover = lt_irg_box_holds_ranges(q, &box) ? newest : -1;
     for (int k = 0; k < 3; k++) q->cover_exit[k] = ex[k];
 
