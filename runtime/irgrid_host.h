@@ -60,9 +60,10 @@ lt_status lt__irgrid_trace_finished(lt__irgrid *g, const lt_ray *rays, int count
 /* Gives back what a finished grid no longer needs (runtime/irgrid_compact.c): cells and
  * lists that merging replaced, the top lists, the build's scratch, the task pool; the lists
  * that equal an earlier cell's shared, the sub-maps made octrees, and the cells made 16 bytes
- * (lt_irg_cell16, lists packed: lt_irg_list_pack, sub-map entries in 3 bytes) when the fine grid is at
- * most LT_IRG_CELL16_MAX a side (else they keep lt_irg_cell). Every top cell must be built; traversal finds the same cells'
- * contents at the same voxels. On failure the grid is left as it was. */
+ * (lt_irg_cell16, lists packed: lt_irg_list_pack, sub-map entries in 3 bytes) when the fine
+ * grid is at most LT_IRG_CELL16_MAX a side (else they keep lt_irg_cell). Every top cell must be
+ * built; traversal finds the same cells' contents at the same voxels. On failure the grid is
+ * left as it was. */
 lt_status lt__irgrid_compact(lt__irgrid *g);
 /* Which heap the last launch ran out of, if any: 1 cells, 2 references, 3 sub-maps, 0 none. */
 int lt__irgrid_heap_full(lt__irgrid *g);

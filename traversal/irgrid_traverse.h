@@ -112,6 +112,10 @@ LT_DEVICE lt_hit_record lt_irg_ray_answer(const lt_irg_ray *q) {
   return hit;
 }
 
+/* Whether the grid is a compacted one with 16-byte cells, packed lists and 3-byte sub-map
+ * entries (a constant in the native builds for that layout only). */
+LT_DEVICE int lt_irg_view_packed(const lt_irg_view *v) { return LT_IRG_CELL16_ONLY || v->cells16; }
+
 /* The fine voxel at travel indices (ux, uy, uz). */
 LT_DEVICE void lt_irg_voxel_at(const lt_irg_ray *q, int ux, int uy, int uz, int v[3]) {
   v[0] = lt_grid_cell_of(&q->w[0], ux), v[1] = lt_grid_cell_of(&q->w[1], uy), v[2] = lt_grid_cell_of(&q->w[2], uz);
@@ -121,8 +125,7 @@ LT_DEVICE void lt_irg_voxel_at(const lt_irg_ray *q, int ux, int uy, int uz, int 
 LT_DEVICE lt_i32 lt_irg_cell_at(const lt_irg_view *v, const lt_irg_ray *q, int ux, int uy, int uz) {
   int x[3];
   lt_irg_voxel_at(q, ux, uy, uz, x);
-  return lt_irg_lookup(v->top_map, v->sub_maps, LT_IRG_CELL16_ONLY || v->cells16, v->fine_dims, v->shift, x[0], x[1],
-                       x[2]);
+  return lt_irg_lookup(v->top_map, v->sub_maps, lt_irg_view_packed(v), v->fine_dims, v->shift, x[0], x[1], x[2]);
 }
 
 /* Where the ray crosses a cell box's far face on axis k (infinity where it runs parallel). */
@@ -152,7 +155,7 @@ LT_DEVICE int lt_irg_test_cell(const lt_irg_view *v, lt_irg_ray *q, lt_i32 cell,
   q->recent[q->recent_next] = cell;
   q->recent_next = (q->recent_next + 1) & (LT_IRG_RECENT - 1);
   c->traversal_steps++;
-  int packed = LT_IRG_CELL16_ONLY || v->cells16;
+  int packed = lt_irg_view_packed(v);
   lt_irg_list list = lt_irg_list_open(v->refs, packed, p);
 #if LT_IRG_WATERTIGHT4
   /* Natively, a cell of two or more triangles takes them four at a time (the same hits). */

@@ -88,8 +88,9 @@ __attribute__((always_inline)) static inline int lt_watertight4_steps(const lt_r
 /* Tests triangles prims[0 .. count) (1 <= count <= 4) in that order; returns 1 when an any-hit
  * query found its hit (the rest is then not tested). Always inlined: the irregular grid's trace,
  * whose walk is one large function, otherwise calls it (1% more instructions there). */
-__attribute__((always_inline)) static inline int lt_watertight4(const lt_ray_setup *r, const lt_watertight4_ray *q, const float *verts,
-                                 const lt_i32 *prims, int count, int any_hit, lt_hit_record *hit) {
+__attribute__((always_inline)) static inline int lt_watertight4(const lt_ray_setup *r, const lt_watertight4_ray *q,
+                                                                const float *verts, const lt_i32 *prims, int count,
+                                                                int any_hit, lt_hit_record *hit) {
   /* The four triangles' 9 floats as rows of four lanes: three loads a triangle (the third
    * overlaps the second, so that nothing past the triangle is read), then transposed. A lane
    * past count repeats the last triangle and is masked off. */
