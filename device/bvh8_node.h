@@ -51,6 +51,20 @@ typedef struct lt_tri4 {
   lt_i32 prim[4]; /* 16 bytes: the triangles' numbers */
 } lt_tri4;
 
+/* An any-hit query's guesses (kernels/native_bvh_wide.c): copies of the triangles that
+ * answered one work-item's last eight any-hit queries, tested first, and whether that pays.
+ * Kept from ray to ray of one launch, zero at its start. */
+typedef struct lt_bvh8_occluders {
+  lt_tri4 recent[2]; /* slots 0 to filled - 1 (slot i: block i / 4, lane i % 4) */
+  lt_i32 filled;     /* slots holding a triangle, at most 8 */
+  lt_i32 next;       /* the slot the next answer takes, over the oldest */
+  lt_i32 odds;       /* 4096 x the share of tries that answered, each try weighing 1/16 */
+  lt_i32 work;       /* 16 x the node visits of a traversal after a failed try, on average */
+  lt_i32 worth;      /* odds x work above a try's cost: every query tries */
+  lt_u32 rays;       /* queries that have asked */
+  lt_u32 mark;       /* the work-item's node visits before the traversal under way */
+} lt_bvh8_occluders;
+
 #ifndef __OPENCL_VERSION__
 _Static_assert(sizeof(lt_tri4) == 160, "lt_tri4 is 160 bytes");
 _Static_assert(sizeof(lt_bvh8_node) == 256, "lt_bvh8_node is four 64-byte lines");

@@ -78,6 +78,7 @@ lt_status lt__ondemand_create(lt_context *ctx, const lt_scene *scene, const lt__
   od->morton_above = morton_above > 0 && morton_above < od->count ? morton_above : od->count;
   od->wide_on = lt__ondemand_wide_wanted(ctx, mode);
   od->wide_stride = lt__ondemand_wide_stride();
+  od->wide_guesses = lt__ondemand_wide_guesses();
   if (sah->bins > LT_MAX_BINS) return lt__fail(LT_ERROR_INVALID_ARGUMENT, "at most %d SAH bins", LT_MAX_BINS);
   /* Device buffers: the scene's triangles as they are (no copy on native), their boxes,
    * references, partition room, nodes, bin slabs, counters. */
@@ -187,7 +188,7 @@ static lt_status launch(lt__ondemand *od, lt__buffer *rays, lt__buffer *hits, in
   launch_args.args = args;
 #if LT_BVH_WIDE
   /* Rays start on the wide tree where the root is wide (runtime/bvh_wide_host.c). */
-  lt_bvh_wide_view wide = {od->wide.nodes, od->wide.blocks, -1};
+  lt_bvh_wide_view wide = {od->wide.nodes, od->wide.blocks, -1, od->verts.host, od->wide_guesses};
   if (od->wide.node_count > 0) {
     lt_i32 link, count;
     if (lt_bvh_child(&((const lt_bvh_node *)od->nodes.host)[0], 0, &link, &count) == LT_CHILD_INNER &&

@@ -28,6 +28,7 @@ typedef struct lt__ondemand {
   int wide_on;        /* collapse before each launch with rays */
   int wide_hold;      /* not before the next launch (a re-trace for statistics) */
   int wide_stride;    /* the sample's stride (lt__ondemand_wide_stride) */
+  int wide_guesses;   /* any-hit queries try recent answers first (kernels/native_bvh_wide.c) */
   lt__bvh8 wide;      /* the wide nodes and their triangle copies */
   int wide_collapses; /* collapses so far */
   double wide_ms;     /* host time spent collapsing (part of the launches' time) */
@@ -43,6 +44,9 @@ int lt__ondemand_wide_wanted(const lt_context *ctx, int pool_mode);
  * LT_BVH_WIDE_SAMPLE (default 16; 0 turns it off), read once when a tree is made, as
  * LT_BVH_WIDE is. */
 int lt__ondemand_wide_stride(void);
+/* Whether any-hit queries on the wide tree try their work-item's recent answers first
+ * (LT_BVH_GUESSES=0 in the environment: no). */
+int lt__ondemand_wide_guesses(void);
 /* That stride for a batch of `count` rays, or 0 for none (none for batches under 1024 samples). */
 int lt__ondemand_wide_sample(int stride, int count);
 /* Collapses the tree as far as it is built into the wide tree, and marks the root's link

@@ -38,6 +38,11 @@ int lt__ondemand_wide_stride(void) {
   return env ? atoi(env) : 16;
 }
 
+int lt__ondemand_wide_guesses(void) {
+  const char *env = getenv("LT_BVH_GUESSES");
+  return !(env && strcmp(env, "0") == 0);
+}
+
 int lt__ondemand_wide_sample(int stride, int count) { return stride > 1 && count / stride >= 1024 ? stride : 0; }
 
 lt_status lt__ondemand_widen(lt__ondemand *od) {

@@ -3,8 +3,8 @@
  * traversal, leaving it by its exits. Every launch on one tree, with the collapse on and off,
  * returns the
  * brute-force reference's closest hits (t and prim bit for bit), any-hit agrees, closed meshes
- * do not leak, and a wide copy made wrong on purpose shows in the hits (so the rays do go
- * through it). */
+ * do not leak, a wide copy made wrong on purpose shows in the hits (so the rays do go
+ * through it), and any-hit queries' guesses keep occlusion as it is. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -269,6 +269,57 @@ static void ondemand_wide_first_launch_runs_after_a_sample(void **state) {
   }
 }
 
+/* Guesses (kernels/native_bvh_wide.c): ambient-occlusion rays, eight from each primary hit, in
+ * pixel order, traced any-hit on the wide tree with guesses on and off. Both agree with brute
+ * force on occlusion; every answer is a hit within [tmin, tmax]; with guesses the rays make
+ * fewer node visits (the guesses did answer some), and without them as many as before. */
+static void ondemand_wide_guesses_keep_occlusion(void **state) {
+  (void)state;
+  if (!wide_here()) skip();
+  const char *const scenes[] = {"house-grid:2x2", "cornell", "hairball:300"};
+  for (int s = 0; s < 3; s++) {
+    lt_scene *scene;
+    assert_int_equal(lt_scene_load(scenes[s], &scene), LT_OK);
+    int side = 48;
+    size_t n = (size_t)side * side;
+    lt_ray *primary = malloc(n * sizeof *primary), *ao = malloc(8 * n * sizeof *ao);
+    lt_hit *primary_hits = malloc(n * sizeof *primary_hits);
+    lt_test_camera_rays(scene, "close", side, side, primary);
+    assert_int_equal(lt_reference_trace(scene, primary, n, LT_QUERY_CLOSEST, primary_hits), LT_OK);
+    float lo[3], hi[3];
+    lt_scene_bounds(scene, lo, hi);
+    float reach = 0.1f * (hi[0] - lo[0] + hi[1] - lo[1] + hi[2] - lo[2]);
+    size_t m = lt_ao_rays(scene, primary, primary_hits, n, 8, reach, 3, ao);
+    assert_true(m > n);
+    lt_hit *ref = malloc(m * sizeof *ref), *hits = malloc(m * sizeof *hits);
+    assert_int_equal(lt_reference_trace(scene, ao, m, LT_QUERY_ANY, ref), LT_OK);
+    double steps[2];
+    for (int off = 0; off < 2; off++) {
+      if (off) setenv("LT_BVH_GUESSES", "0", 1);
+      lt_context *ctx;
+      lt_structure *bvh = make_tree(scene, LT_BUILD_SPECULATIVE, 2, &ctx);
+      assert_int_equal(lt_structure_trace(bvh, primary, n, LT_QUERY_CLOSEST, hits, NULL), LT_OK);
+      lt_stats *stats;
+      lt_stats_create(&stats);
+      assert_int_equal(lt_structure_trace(bvh, ao, m, LT_QUERY_ANY, hits, NULL), LT_OK); /* builds */
+      assert_int_equal(lt_structure_trace(bvh, ao, m, LT_QUERY_ANY, hits, stats), LT_OK);
+      steps[off] = lt_stats_get(stats, "traversal_steps");
+      assert_int_equal(lt_test_count_occlusion_mismatches(hits, ref, m), 0);
+      for (size_t i = 0; i < m; i++)
+        if (hits[i].prim >= 0) assert_true(hits[i].t >= ao[i].tmin && hits[i].t <= ao[i].tmax);
+      lt_stats_destroy(stats);
+      lt_structure_destroy(bvh);
+      lt_context_destroy(ctx);
+      unsetenv("LT_BVH_GUESSES");
+    }
+    fprintf(stderr, "%s: %zu AO rays, %.2f node visits a ray with guesses, %.2f without\n", scenes[s], m,
+            steps[0] / (double)m, steps[1] / (double)m);
+    if (s == 0) assert_true(steps[0] < 0.9 * steps[1]); /* a house's AO rays: mostly occluded */
+    free(primary), free(ao), free(primary_hits), free(ref), free(hits);
+    lt_scene_destroy(scene);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(ondemand_wide_copies_are_what_rays_see),
@@ -277,6 +328,7 @@ int main(void) {
       cmocka_unit_test(ondemand_wide_matches_reference_across_launches),
       cmocka_unit_test(ondemand_wide_exits_that_do_not_fit_fall_back),
       cmocka_unit_test(ondemand_wide_first_launch_runs_after_a_sample),
+      cmocka_unit_test(ondemand_wide_guesses_keep_occlusion),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

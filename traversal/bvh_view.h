@@ -24,6 +24,8 @@ typedef struct lt_bvh_wide_view {
   const lt_bvh8_node *nodes;
   const lt_tri4 *blocks;
   lt_i32 root;
+  const float *verts; /* the scene's triangles, 9 floats each, */
+  int guesses;        /* for any-hit queries' guesses, if on (kernels/native_bvh_wide.c) */
 } lt_bvh_wide_view;
 
 /* Traces a ray from the children of wide node `node`, starting from and updating its best hit
@@ -62,6 +64,9 @@ typedef struct lt_bvh_ray {
   lt_i32 cur;      /* next node, a link reference (<= -2), or -1 when done */
   lt_i32 wait;     /* link address the ray is suspended on, or -1 */
   lt_i32 overflow; /* the stack would have overflowed: the answer is not to be trusted */
+#if LT_BVH_WIDE
+  lt_bvh8_occluders guesses; /* any hit on the wide tree: kept from ray to ray of a work-item */
+#endif
 } lt_bvh_ray;
 
 /* A ray's traversal state as it starts: an empty stack, waiting for nothing, next node `cur`
