@@ -11,7 +11,12 @@ lt_bench_prepare() {
 
 # The machine: CPU model, cores, memory and operating system, on one line.
 lt_machine() {
-  echo "$(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores, $(free -g | awk '/Mem:/ {print $2}') GiB; $(grep PRETTY /etc/os-release | cut -d= -f2 | tr -d '"')"
+  echo "$(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores, $(lt_simd), $(free -g | awk '/Mem:/ {print $2}') GiB; $(grep PRETTY /etc/os-release | cut -d= -f2 | tr -d '"')"
+}
+
+# The widest vector instructions the CPU offers (Embree picks its code path by them; ours is AVX2).
+lt_simd() {
+  if grep -qw avx512f /proc/cpuinfo; then echo "AVX-512"; elif grep -qw avx2 /proc/cpuinfo; then echo "AVX2"; else echo "no AVX2"; fi
 }
 
 # The commit, marked when the code (anything outside docs/) differs from it.
