@@ -271,8 +271,8 @@ static void ondemand_wide_first_launch_runs_after_a_sample(void **state) {
 
 /* Guesses (kernels/native_bvh_wide.c): ambient-occlusion rays, eight from each primary hit, in
  * pixel order, traced any-hit on the wide tree with guesses on and off. Both agree with brute
- * force on occlusion; every answer is a hit within [tmin, tmax]; with guesses the rays make
- * fewer node visits (the guesses did answer some), and without them as many as before. */
+ * force on occlusion and every answer lies within [tmin, tmax]; on the house the rays make
+ * fewer node visits with guesses (so the guesses did answer, and were checked above). */
 static void ondemand_wide_guesses_keep_occlusion(void **state) {
   (void)state;
   if (!wide_here()) skip();
