@@ -7,6 +7,7 @@
 #include "kernels/native_kernels.h"
 
 #if defined(__x86_64__)
+#include "traversal/bvh8_guess.h"
 #include "traversal/bvh8_traverse.h"
 #include "traversal/bvh_view.h"
 
@@ -49,51 +50,6 @@ LT_BVH8_TARGET __attribute__((noinline)) int lt__bvh_wide_trace(const lt_bvh_wid
   return wide_trace(w, r, hit, node, stack, stack_t, sp, size, c, LT_BVH8_QUERY_OTHER);
 }
 
-/* Guesses: an any-hit query is answered by any triangle of the scene hit within [tmin, tmax],
- * so a work-item first tries copies of the triangles that answered its last eight any-hit
- * queries on the wide tree (device/bvh8_node.h, lt_bvh8_occluders), as two blocks of the wide
- * tree's four-triangle test, and traverses only when none is hit. The test is the traversal's
- * own, on the scene's own floats, so a hit there is one the traversal would accept: occlusion
- * is the same as without guesses, only which triangle answers may differ (as between any two
- * any-hit traversals). Coherent queries (a point's ambient-occlusion rays, neighbouring points'
- * shadow rays) are often answered so, with no node visited. Where that does not pay (the share
- * of tries answered, times the node visits a traversal made after a failed try, below one node
- * visit, about a block test's cost) only every 32nd query tries, to learn whether it would
- * again. LT_BVH_GUESSES=0 in the environment turns guesses off. */
-LT_BVH8_TARGET __attribute__((noinline)) static int guess(const lt_ray_setup *r, lt_bvh8_occluders *o,
-                                                         lt_hit_record *hit, lt_trace_counters *c) {
-  lt_bvh8_ray q;
-  q.tri = lt_watertight4_prepare(r); /* all the block test reads */
-  int first = o->filled < 4 ? o->filled : 4;
-  c->intersections += (lt_u32)first;
-  int answered = lt_bvh8_tri4_watertight(r, &q, &o->recent[0], (1 << first) - 1, 1, 1, hit);
-  if (!answered && o->filled > 4) {
-    c->intersections += (lt_u32)(o->filled - 4);
-    answered = lt_bvh8_tri4_watertight(r, &q, &o->recent[1], (1 << (o->filled - 4)) - 1, 1, 1, hit);
-  }
-  o->odds += ((answered ? 4096 : 0) - o->odds) >> 4;
-  o->worth = (long long)o->odds * o->work >= 4096 * 16;
-  return answered;
-}
-
-/* After a traversal: its node visits go into the average (when a guess was tried first), its
- * answer becomes a guess in place of the oldest. */
-static inline void learn(const lt_bvh_wide_view *w, lt_bvh8_occluders *o, lt_i32 prim, int tried, lt_u32 steps) {
-  if (tried) {
-    lt_i32 visits = steps < (1u << 20) ? (lt_i32)steps : 1 << 20;
-    o->work += (visits * 16 - o->work) >> 4;
-    o->worth = (long long)o->odds * o->work >= 4096 * 16;
-  }
-  if (prim < 0) return;
-  const float *v = w->verts + 9 * (size_t)prim;
-  int slot = o->next;
-  lt_tri4 *b = &o->recent[slot >> 2];
-  for (int k = 0; k < 9; k++) b->v[k][slot & 3] = v[k];
-  b->prim[slot & 3] = prim;
-  o->next = (slot + 1) & 7;
-  o->filled += o->filled < 8;
-}
-
 /* lt__bvh_wide_start for one form. The binary traversal would box-test the root's box at the
  * super-root first; the wide tree starts at the root's children, whose boxes lie inside it (a
  * ray that misses the root's box misses theirs too, bit for bit: traversal/ray.h), so the
@@ -108,10 +64,10 @@ LT_BVH8_TARGET __attribute__((always_inline)) static inline void wide_start(cons
   if (q->r.valid) {
     if (q->r.parallel) form = LT_BVH8_QUERY_OTHER; /* not a common ray */
     int tried = 0, guessing = form == LT_BVH8_QUERY_ANY && w->guesses;
-    if (guessing) {
+    if (guessing) { /* traversal/bvh8_guess.h */
       lt_bvh8_occluders *o = &q->guesses;
-      tried = o->filled > 0 && ((o->rays++ & 31) == 0 || o->worth);
-      if (tried && guess(&q->r, o, &hit, c)) {
+      tried = lt_bvh8_guess_tries(o);
+      if (tried && lt_bvh8_guess(&q->r, o, &hit, c)) {
         q->hit = hit;
         return;
       }
@@ -121,7 +77,7 @@ LT_BVH8_TARGET __attribute__((always_inline)) static inline void wide_start(cons
       q->cur = 0; /* exits that would not fit: the binary tree from the super-root */
     else if (q->sp > 0 && !((flags & LT_QUERY_FLAG_ANY) && hit.prim >= 0))
       q->hit = hit, q->cur = lt_bvh_ray_pop(q);
-    if (guessing) learn(w, &q->guesses, hit.prim, tried, c->traversal_steps - q->guesses.mark);
+    if (guessing) lt_bvh8_guess_learn(w->verts, &q->guesses, hit.prim, tried, c->traversal_steps - q->guesses.mark);
   }
   q->hit = hit;
 }

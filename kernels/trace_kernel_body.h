@@ -8,7 +8,9 @@
  *                                the traversal would overflow its stack
  *   or, native only,
  *   #define LT_TRACE_RANGE(v, begin, end, c)  the same for rays [begin, end) (0, or nonzero
- *                                when some traversal would overflow): one call a chunk
+ *                                when some traversal would overflow): one call a chunk, and
+ *   #define LT_TRACE_STATE       optionally, a type of per-thread state kept across the thread's
+ *                                chunks (zero at first), passed as LT_TRACE_RANGE's fifth argument
  *
  * OpenCL runs one work-item per ray; the native backend runs one thread per work-group, each
  * taking chunks of rays from a shared counter until none are left. No include guard. */
@@ -36,11 +38,18 @@ void LT_TRACE_NATIVE(void *arg) {
   lt_u32 count = (lt_u32)view->batch.count;
   lt_trace_counters counters = {0, 0};
   uint64_t steps = 0, tests = 0;
+#ifdef LT_TRACE_STATE
+  LT_TRACE_STATE state;
+  memset(&state, 0, sizeof state);
+#endif
   for (;;) {
     lt_u32 begin = lt_atomic_add_u32(&launch->next_ray, CHUNK);
     if (begin >= count) break;
     lt_u32 end = begin + CHUNK < count ? begin + CHUNK : count;
-#ifdef LT_TRACE_RANGE
+#if defined(LT_TRACE_RANGE) && defined(LT_TRACE_STATE)
+    if (LT_TRACE_RANGE(view, (lt_i32)begin, (lt_i32)end, &counters, &state) != 0)
+      __atomic_store_n(&launch->error, 1, __ATOMIC_RELAXED);
+#elif defined(LT_TRACE_RANGE)
     if (LT_TRACE_RANGE(view, (lt_i32)begin, (lt_i32)end, &counters) != 0)
       __atomic_store_n(&launch->error, 1, __ATOMIC_RELAXED);
 #else
@@ -63,3 +72,4 @@ void LT_TRACE_NATIVE(void *arg) {
 #undef LT_TRACE_ARGS
 #undef LT_TRACE_ONE
 #undef LT_TRACE_RANGE
+#undef LT_TRACE_STATE

@@ -44,8 +44,8 @@ int lt__ondemand_wide_wanted(const lt_context *ctx, int pool_mode);
  * LT_BVH_WIDE_SAMPLE (default 16; 0 turns it off), read once when a tree is made, as
  * LT_BVH_WIDE is. */
 int lt__ondemand_wide_stride(void);
-/* Whether any-hit queries on the wide tree try their work-item's recent answers first
- * (LT_BVH_GUESSES=0 in the environment: no). */
+/* Whether any-hit queries on a native 8-wide tree (this one's, the full QBVH's) try their
+ * work-item's recent answers first (LT_BVH_GUESSES=0 in the environment: no). */
 int lt__ondemand_wide_guesses(void);
 /* That stride for a batch of `count` rays, or 0 for none (none for batches under 1024 samples). */
 int lt__ondemand_wide_sample(int stride, int count);

@@ -11,6 +11,7 @@
 #include "builders/host/qbvh_collapse.h"
 #include "kernels/native_kernels.h"
 #include "kernels/qbvh_trace.h"
+#include "runtime/bvh_ondemand_host.h"
 #include "runtime/context_internal.h"
 #include "runtime/error.h"
 #include "runtime/kernel_args_host.h"
@@ -30,6 +31,7 @@ typedef struct qbvh_state {
   int width;      /* 4 or 8: which of the two is traced */
   lt__buffer nodes, tris; /* on the device (on native, the arrays themselves) */
   lt__buffer blocks;      /* the 8-wide tree's triangle blocks (native) */
+  lt__buffer verts;       /* the scene's triangles (native 8 wide: any-hit guesses) */
 } qbvh_state;
 
 /* The trace kernel's arguments from its one list (kernels/qbvh_trace.h). */
@@ -85,6 +87,9 @@ static lt_status create(lt_structure *s, lt_stats *stats) {
     status = lt__buffer_wrap(s->ctx, &q->nodes, q->bvh8.nodes, (size_t)q->bvh8.node_count * sizeof(lt_bvh8_node));
     if (!status)
       status = lt__buffer_wrap(s->ctx, &q->blocks, q->bvh8.blocks, (size_t)q->bvh8.tri_slots / 4 * sizeof(lt_tri4));
+    /* Any-hit guesses read the scene's triangles (traversal/bvh8_guess.h); none without them. */
+    if (!status && lt__ondemand_wide_guesses())
+      status = lt__buffer_wrap(s->ctx, &q->verts, lt_scene_triangles(s->scene), n * 9 * sizeof(float));
   } else {
     status = lt__buffer_wrap(s->ctx, &q->nodes, q->qbvh.nodes, (size_t)q->qbvh.node_count * sizeof(lt_qbvh_node));
     if (!status) status = lt__buffer_wrap(s->ctx, &q->tris, q->bvh.tris, (size_t)q->bvh.tri_count * sizeof(lt_tri));
@@ -98,7 +103,7 @@ static lt_status trace(lt_structure *s, const lt_ray *rays, int count, int flags
   qbvh_state *q = s->state;
 #if defined(__x86_64__)
   if (q->width == 8) {
-    trace8_args args8 = {NULL, NULL, 0, 0, &q->nodes, &q->blocks};
+    trace8_args args8 = {NULL, NULL, 0, 0, &q->nodes, &q->blocks, &q->verts};
     lt_bvh8_trace_view view8;
     lt__trace_call call8 = {"lt_qbvh_trace", lt__native_bvh8_trace_kernel, trace8_args_set_any, trace8_args_view_any,
                             &args8, &args8.rays, &args8.hits, &args8.ray_count, &args8.flags, &view8};
@@ -136,6 +141,7 @@ static void release(lt_structure *s) {
   lt__buffer_release(&q->nodes);
   lt__buffer_release(&q->tris);
   lt__buffer_release(&q->blocks);
+  lt__buffer_release(&q->verts);
   lt__qbvh_free(&q->qbvh);
   lt__bvh8_free(&q->bvh8);
   lt__bvh_free(&q->bvh);

@@ -295,6 +295,51 @@ static size_t check_scene(const char *what, const lt_scene *scene, const lt_ray 
   return hit;
 }
 
+/* Any-hit guesses on the native 8-wide trace (traversal/bvh8_guess.h): a house's AO rays in pixel
+ * order, with guesses on and off (LT_BVH_GUESSES=0). Occlusion equals brute force's both ways, every
+ * answer lies within [tmin, tmax], and the guesses spare node visits. */
+static void qbvh_any_hit_guesses_keep_occlusion(void **state) {
+  (void)state;
+  lt_scene *scene;
+  assert_int_equal(lt_scene_load("house-grid:2x2", &scene), LT_OK);
+  int side = 48;
+  size_t n = (size_t)side * side;
+  lt_ray *primary = malloc(n * sizeof *primary), *ao = malloc(8 * n * sizeof *ao);
+  lt_hit *primary_hits = malloc(n * sizeof *primary_hits);
+  lt_test_camera_rays(scene, "close", side, side, primary);
+  assert_int_equal(lt_reference_trace(scene, primary, n, LT_QUERY_CLOSEST, primary_hits), LT_OK);
+  float lo[3], hi[3];
+  lt_scene_bounds(scene, lo, hi);
+  size_t m = lt_ao_rays(scene, primary, primary_hits, n, 8, 0.1f * (hi[0] - lo[0] + hi[1] - lo[1] + hi[2] - lo[2]), 3, ao);
+  lt_hit *ref = malloc(m * sizeof *ref);
+  assert_int_equal(lt_reference_trace(scene, ao, m, LT_QUERY_ANY, ref), LT_OK);
+  lt_structure_config sc = lt_structure_config_default(LT_STRUCTURE_QBVH);
+  lt_test_launch native = {LT_DEVICE_NATIVE, 0, 0};
+  double steps[2];
+  for (int off = 0; off < 2; off++) {
+    if (off) setenv("LT_BVH_GUESSES", "0", 1);
+    lt_stats *stats;
+    lt_stats_create(&stats);
+    lt_hit *hits = lt_test_trace_with(scene, &native, &sc, ao, m, LT_QUERY_ANY, stats);
+    assert_non_null(hits);
+    assert_int_equal(lt_test_count_occlusion_mismatches(hits, ref, m), 0);
+    for (size_t i = 0; i < m; i++)
+      if (hits[i].prim >= 0) assert_true(hits[i].t >= ao[i].tmin && hits[i].t <= ao[i].tmax);
+    steps[off] = lt_stats_get(stats, "traversal_steps");
+    free(hits);
+    lt_stats_destroy(stats);
+    unsetenv("LT_BVH_GUESSES");
+  }
+  fprintf(stderr, "house-grid:2x2 AO rays: %.2f node visits a ray with guesses, %.2f without\n", steps[0] / (double)m,
+          steps[1] / (double)m);
+#if defined(__x86_64__)
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("avx2")) assert_true(steps[0] < 0.9 * steps[1]); /* the 8-wide path guesses */
+#endif
+  free(primary), free(ao), free(primary_hits), free(ref);
+  lt_scene_destroy(scene);
+}
+
 /* Every generator, its cameras and random rays. */
 static void qbvh_matches_reference_on_generators(void **state) {
   (void)state;
@@ -414,6 +459,7 @@ int main(void) {
       cmocka_unit_test(qbvh_closed_meshes_never_leak),
       cmocka_unit_test(qbvh_refuses_trees_beyond_its_stack_entries),
       cmocka_unit_test(qbvh_statistics_describe_the_arrays),
+      cmocka_unit_test(qbvh_any_hit_guesses_keep_occlusion),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
