@@ -135,3 +135,20 @@ lt_ray *lt_test_generator_rays(const lt_scene *scene, int side, size_t random, u
   lt_test_random_rays(scene, seed, random, rays + 2 * square);
   return rays;
 }
+
+lt_ray *lt_test_ao_rays(const lt_scene *scene, int side, lt_ray *primary, size_t *n) {
+  size_t count = (size_t)side * side;
+  lt_ray *ao = malloc(8 * count * sizeof *ao);
+  lt_hit *hits = malloc(count * sizeof *hits);
+  *n = 0;
+  lt_test_camera_rays(scene, "close", side, side, primary);
+  if (ao && hits && lt_reference_trace(scene, primary, count, LT_QUERY_CLOSEST, hits) == LT_OK) {
+    float lo[3], hi[3];
+    lt_scene_bounds(scene, lo, hi);
+    float reach = 0.1f * (hi[0] - lo[0] + hi[1] - lo[1] + hi[2] - lo[2]);
+    *n = lt_ao_rays(scene, primary, hits, count, 8, reach, 3, ao);
+  }
+  free(hits);
+  if (*n <= count) free(ao), ao = NULL;
+  return ao;
+}

@@ -39,6 +39,11 @@ size_t lt_test_backend_mismatches(const char *what, const lt_scene *scene, const
 /* The rays of the generator tests: side x side from the outer camera, as many from the close
  * one, then `random` random rays of the given seed; *n says how many in all. */
 lt_ray *lt_test_generator_rays(const lt_scene *scene, int side, size_t random, uint64_t seed, size_t *n);
+/* Ambient-occlusion rays in pixel order: the close camera's side x side primary rays (into
+ * primary, side * side of them), then 8 rays from each brute-force hit, as long as a tenth of the
+ * sum of the scene's extents; returns them (*n of them), or NULL when they are not more than
+ * the primary rays or something failed. */
+lt_ray *lt_test_ao_rays(const lt_scene *scene, int side, lt_ray *primary, size_t *n);
 /* A structure of `kind` started with a pool of 2 slots, which fills at once, in every build
  * mode it has, on 500 random rays over sphere:5: the closest hits that differ from brute
  * force's after its retries, summed over the modes; (size_t)-1 when a create or trace fails. */

@@ -280,17 +280,9 @@ static void ondemand_wide_guesses_keep_occlusion(void **state) {
   for (int s = 0; s < 3; s++) {
     lt_scene *scene;
     assert_int_equal(lt_scene_load(scenes[s], &scene), LT_OK);
-    int side = 48;
-    size_t n = (size_t)side * side;
-    lt_ray *primary = malloc(n * sizeof *primary), *ao = malloc(8 * n * sizeof *ao);
-    lt_hit *primary_hits = malloc(n * sizeof *primary_hits);
-    lt_test_camera_rays(scene, "close", side, side, primary);
-    assert_int_equal(lt_reference_trace(scene, primary, n, LT_QUERY_CLOSEST, primary_hits), LT_OK);
-    float lo[3], hi[3];
-    lt_scene_bounds(scene, lo, hi);
-    float reach = 0.1f * (hi[0] - lo[0] + hi[1] - lo[1] + hi[2] - lo[2]);
-    size_t m = lt_ao_rays(scene, primary, primary_hits, n, 8, reach, 3, ao);
-    assert_true(m > n);
+    size_t n = 48 * 48, m;
+    lt_ray *primary = malloc(n * sizeof *primary), *ao = lt_test_ao_rays(scene, 48, primary, &m);
+    assert_non_null(ao);
     lt_hit *ref = malloc(m * sizeof *ref), *hits = malloc(m * sizeof *hits);
     assert_int_equal(lt_reference_trace(scene, ao, m, LT_QUERY_ANY, ref), LT_OK);
     double steps[2];
@@ -315,7 +307,7 @@ static void ondemand_wide_guesses_keep_occlusion(void **state) {
     fprintf(stderr, "%s: %zu AO rays, %.2f node visits a ray with guesses, %.2f without\n", scenes[s], m,
             steps[0] / (double)m, steps[1] / (double)m);
     if (s == 0) assert_true(steps[0] < 0.9 * steps[1]); /* a house's AO rays: mostly occluded */
-    free(primary), free(ao), free(primary_hits), free(ref), free(hits);
+    free(primary), free(ao), free(ref), free(hits);
     lt_scene_destroy(scene);
   }
 }

@@ -302,15 +302,9 @@ static void qbvh_any_hit_guesses_keep_occlusion(void **state) {
   (void)state;
   lt_scene *scene;
   assert_int_equal(lt_scene_load("house-grid:2x2", &scene), LT_OK);
-  int side = 48;
-  size_t n = (size_t)side * side;
-  lt_ray *primary = malloc(n * sizeof *primary), *ao = malloc(8 * n * sizeof *ao);
-  lt_hit *primary_hits = malloc(n * sizeof *primary_hits);
-  lt_test_camera_rays(scene, "close", side, side, primary);
-  assert_int_equal(lt_reference_trace(scene, primary, n, LT_QUERY_CLOSEST, primary_hits), LT_OK);
-  float lo[3], hi[3];
-  lt_scene_bounds(scene, lo, hi);
-  size_t m = lt_ao_rays(scene, primary, primary_hits, n, 8, 0.1f * (hi[0] - lo[0] + hi[1] - lo[1] + hi[2] - lo[2]), 3, ao);
+  size_t m;
+  lt_ray *primary = malloc(48 * 48 * sizeof *primary), *ao = lt_test_ao_rays(scene, 48, primary, &m);
+  assert_non_null(ao);
   lt_hit *ref = malloc(m * sizeof *ref);
   assert_int_equal(lt_reference_trace(scene, ao, m, LT_QUERY_ANY, ref), LT_OK);
   lt_structure_config sc = lt_structure_config_default(LT_STRUCTURE_QBVH);
@@ -336,7 +330,7 @@ static void qbvh_any_hit_guesses_keep_occlusion(void **state) {
   __builtin_cpu_init();
   if (__builtin_cpu_supports("avx2")) assert_true(steps[0] < 0.9 * steps[1]); /* the 8-wide path guesses */
 #endif
-  free(primary), free(ao), free(primary_hits), free(ref);
+  free(primary), free(ao), free(ref);
   lt_scene_destroy(scene);
 }
 
