@@ -17,6 +17,9 @@
  * again. The on-demand BVH's wide tree (kernels/native_bvh_wide.c; LT_BVH_GUESSES=0 in the
  * environment turns them off there) and the full QBVH's native trace kernel (kernels/bvh8_trace.h)
  * use them; the state is lt_bvh8_occluders (device/bvh8_node.h), one per work-item or thread. */
+/* worth, from odds and work: whether a try saves more on average than it costs. */
+static inline void lt_bvh8_guess_weigh(lt_bvh8_occluders *o) { o->worth = (long long)o->odds * o->work >= 4096 * 16; }
+
 LT_BVH8_TARGET __attribute__((noinline, unused)) static int lt_bvh8_guess(const lt_ray_setup *r, lt_bvh8_occluders *o,
                                                                       lt_hit_record *hit, lt_trace_counters *c) {
   lt_bvh8_ray q;
@@ -29,7 +32,7 @@ LT_BVH8_TARGET __attribute__((noinline, unused)) static int lt_bvh8_guess(const 
     answered = lt_bvh8_tri4_watertight(r, &q, &o->recent[1], (1 << (o->filled - 4)) - 1, 1, 1, hit);
   }
   o->odds += ((answered ? 4096 : 0) - o->odds) >> 4;
-  o->worth = (long long)o->odds * o->work >= 4096 * 16;
+  lt_bvh8_guess_weigh(o);
   return answered;
 }
 
@@ -45,7 +48,7 @@ static inline void lt_bvh8_guess_learn(const float *verts, lt_bvh8_occluders *o,
   if (tried) {
     lt_i32 visits = steps < (1u << 20) ? (lt_i32)steps : 1 << 20;
     o->work += (visits * 16 - o->work) >> 4;
-    o->worth = (long long)o->odds * o->work >= 4096 * 16;
+    lt_bvh8_guess_weigh(o);
   }
   if (prim < 0) return;
   const float *v = verts + 9 * (size_t)prim;
