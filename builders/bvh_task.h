@@ -305,11 +305,11 @@ LT_DEVICE int lt_bvh_split_small(const lt_bvh_build *b, lt_i32 begin, lt_i32 end
   LT_GLOBAL lt_i32 *src = lt_bvh_refs(b, depth), *dst = lt_bvh_refs(b, depth + 1);
   lt_bins bins;
   int nbins = lt_bvh_node_bins(b, n);
-  lt_bins_clear_first(&bins, nbins);
+  lt_bins_clear(&bins);
   lt_i32 step = lt_bin_step(n);
   int sampled = step > 1;
   lt_bvh_bin_range(b, src, begin, end, step, !sampled, bounds, nbins, &bins);
-  *s = lt_sah_best_split(&bins, nbins, bounds, b->traversal_cost, b->intersection_cost);
+  *s = lt_sah_best_split(&bins, bounds, b->traversal_cost, b->intersection_cost);
   lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)lt_bin_sample_count(n));
   if (lt_sah_make_leaf(n, depth, s, b->max_leaf, b->intersection_cost, LT_BVH_MAX_DEPTH)) return 0;
 
@@ -509,7 +509,7 @@ LT_DEVICE void lt_bvh_end_phase(const lt_bvh_build *b, lt_i32 slot) {
     lt_bins bins;
     lt_bins_from_global(&bins, slab);
     lt_box bounds = lt_load_box(task->work + W_BOUNDS);
-    lt_split s = lt_sah_best_split(&bins, b->bins, &bounds, b->traversal_cost, b->intersection_cost);
+    lt_split s = lt_sah_best_split(&bins, &bounds, b->traversal_cost, b->intersection_cost);
     lt_bvh_count(b, LT_BVH_STAT_SORT_OPS, (lt_u32)lt_bin_sample_count(n));
     if (lt_sah_make_leaf(n, task->depth, &s, b->max_leaf, b->intersection_cost, LT_BVH_MAX_DEPTH)) {
       lt_bvh_release_slab(b, task);

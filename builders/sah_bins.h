@@ -48,26 +48,30 @@ LT_DEVICE lt_v4 lt_bin_scale4(const lt_box *grid, int bins) {
 }
 
 /* Private bins: per axis and bin, how many primitives fell in and the box around them (two
- * vectors, so that adding a primitive is two vector min/max per axis). */
+ * vectors, so that adding a primitive is two vector min/max per axis). Only the bins marked in
+ * `used` (per axis, bit k for bin k) hold anything; the others' fields are not kept, so that
+ * clearing and pricing cost in proportion to the bins in use, not to the bins there are (most
+ * nodes are small: a node of 8 primitives fills at most 8 of an axis's 32). */
 typedef struct lt_bins {
   lt_v4 lo[3 * LT_MAX_BINS], hi[3 * LT_MAX_BINS];
   lt_i32 count[3 * LT_MAX_BINS];
+  lt_u32 used[3];
 } lt_bins;
 
-LT_DEVICE void lt_bins_clear(lt_bins *bins) {
-  for (int i = 0; i < 3 * LT_MAX_BINS; i++) {
-    bins->lo[i] = lt_v4_splat(INFINITY), bins->hi[i] = lt_v4_splat(-INFINITY);
-    bins->count[i] = 0;
-  }
-}
+LT_DEVICE void lt_bins_clear(lt_bins *bins) { bins->used[0] = bins->used[1] = bins->used[2] = 0u; }
 
-/* Clears only the first nbins bins of each axis: all that binning and pricing with nbins read. */
-LT_DEVICE void lt_bins_clear_first(lt_bins *bins, int nbins) {
-  for (int axis = 0; axis < 3; axis++)
-    for (int i = axis * LT_MAX_BINS; i < axis * LT_MAX_BINS + nbins; i++) {
-      bins->lo[i] = lt_v4_splat(INFINITY), bins->hi[i] = lt_v4_splat(-INFINITY);
-      bins->count[i] = 0;
-    }
+/* Adds a box to bin k of an axis. The first box of a bin is the bin's box (the same floats
+ * as the minimum and maximum with an empty box: boxes are finite, the scene has no others). */
+LT_DEVICE void lt_bin_grow(lt_bins *bins, int axis, int k, lt_v4 lo, lt_v4 hi) {
+  int i = axis * LT_MAX_BINS + k;
+  lt_u32 bit = 1u << k;
+  if (bins->used[axis] & bit) {
+    bins->count[i]++;
+    bins->lo[i] = lt_v4_min(lo, bins->lo[i]), bins->hi[i] = lt_v4_max(hi, bins->hi[i]);
+  } else {
+    bins->used[axis] |= bit;
+    bins->count[i] = 1, bins->lo[i] = lo, bins->hi[i] = hi;
+  }
 }
 
 /* Adds one primitive (box lo, hi) to its bin on every axis: the bins of lt_bin_of for the
@@ -79,11 +83,9 @@ LT_DEVICE int lt_bins_add(lt_bins *bins, lt_v4 clo, lt_v4 scale, int nbins, lt_v
   lt_v4 t = lt_v4_max(((lo + hi) * 0.5f - clo) * scale, lt_v4_splat(0.0f));
   lt_vi4 k = lt_v4_to_int(lt_v4_min(t, lt_v4_splat((float)(nbins - 1))));
   int k0 = lt_v4_lane(k, 0), k1 = lt_v4_lane(k, 1), k2 = lt_v4_lane(k, 2);
-  int i0 = k0, i1 = LT_MAX_BINS + k1, i2 = 2 * LT_MAX_BINS + k2;
-  bins->count[i0]++, bins->count[i1]++, bins->count[i2]++;
-  bins->lo[i0] = lt_v4_min(lo, bins->lo[i0]), bins->hi[i0] = lt_v4_max(hi, bins->hi[i0]);
-  bins->lo[i1] = lt_v4_min(lo, bins->lo[i1]), bins->hi[i1] = lt_v4_max(hi, bins->hi[i1]);
-  bins->lo[i2] = lt_v4_min(lo, bins->lo[i2]), bins->hi[i2] = lt_v4_max(hi, bins->hi[i2]);
+  lt_bin_grow(bins, 0, k0, lo, hi);
+  lt_bin_grow(bins, 1, k1, lo, hi);
+  lt_bin_grow(bins, 2, k2, lo, hi);
   return k0 | k1 << 8 | k2 << 16;
 }
 
@@ -93,7 +95,7 @@ LT_DEVICE int lt_packed_bin(int packed, int axis) { return (packed >> (8 * axis)
 /* Merges private bins into a global slab with atomics (order-independent). */
 LT_DEVICE void lt_bins_merge_global(LT_GLOBAL lt_i32 *slab, const lt_bins *bins) {
   for (int i = 0; i < 3 * LT_MAX_BINS; i++) {
-    if (bins->count[i] == 0) continue;
+    if (!(bins->used[i / LT_MAX_BINS] & 1u << (i % LT_MAX_BINS))) continue;
     LT_GLOBAL lt_i32 *s = slab + i * LT_BIN_STRIDE;
     lt_atomic_add_i32(&s[0], bins->count[i]);
     for (int k = 0; k < 3; k++) {
@@ -117,9 +119,11 @@ LT_DEVICE void lt_bins_clear_global(LT_GLOBAL lt_i32 *slab) {
 
 /* A slab's merged bins back in the private form. */
 LT_DEVICE void lt_bins_from_global(lt_bins *bins, LT_GLOBAL lt_i32 *slab) {
+  lt_bins_clear(bins);
   for (int i = 0; i < 3 * LT_MAX_BINS; i++) {
     LT_GLOBAL lt_i32 *s = slab + i * LT_BIN_STRIDE;
     bins->count[i] = lt_atomic_load_i32(&s[0]);
+    if (bins->count[i] > 0) bins->used[i / LT_MAX_BINS] |= 1u << (i % LT_MAX_BINS);
     float v[6];
     for (int k = 0; k < 6; k++) v[k] = lt_unordered(lt_atomic_load_i32(&s[1 + k]));
     bins->lo[i] = lt_v4_make(v[0], v[1], v[2], 0.0f);
@@ -137,36 +141,48 @@ typedef struct lt_split {
 
 /* Prices every bin boundary on every axis; keeps the cheapest (the first on ties, axes in
  * order x, y, z, so that every builder makes the same choice). */
-LT_DEVICE lt_split lt_sah_best_split(const lt_bins *bins, int nbins, const lt_box *bounds, float traversal_cost,
+LT_DEVICE lt_split lt_sah_best_split(const lt_bins *bins, const lt_box *bounds, float traversal_cost,
                                      float intersection_cost) {
   lt_split best;
   best.axis = -1, best.bin = -1, best.cost = INFINITY, best.left_count = 0;
   float parent_area = lt_box_area(bounds), best_x = INFINITY;
   for (int axis = 0; axis < 3; axis++) {
     int a = axis * LT_MAX_BINS;
+    lt_u32 used = bins->used[axis];
 
-    /* Right-hand areas and counts by a sweep from the right. */
+    /* Right-hand areas and counts by a sweep from the right, kept at the bins in use: the
+     * right-hand side of a boundary starts at the first bin in use past it (empty bins change
+     * neither the box nor the count). An empty box's area is 0. */
     float right_area[LT_MAX_BINS];
     int right_count[LT_MAX_BINS];
     lt_v4 lo = lt_v4_splat(INFINITY), hi = lt_v4_splat(-INFINITY);
     int n = 0;
-    for (int i = nbins - 1; i > 0; i--) {
+    for (lt_u32 m = used; m; ) {
+      int i = lt_high_bit(m);
+      m &= ~(1u << i);
       n += bins->count[a + i];
-      if (bins->count[a + i]) lo = lt_v4_min(bins->lo[a + i], lo), hi = lt_v4_max(bins->hi[a + i], hi);
+      lo = lt_v4_min(bins->lo[a + i], lo), hi = lt_v4_max(bins->hi[a + i], hi);
       right_area[i] = lt_area4(lo, hi);
       right_count[i] = n;
     }
 
     /* Prices from the left. The cost, T + I * x / area, never falls where the weighted area x
      * does not (each step rounds monotonically), so a boundary whose x is not below the
-     * best's cannot win and is not divided out: the same choice, ties included. */
+     * best's cannot win and is not divided out: the same choice, ties included. The boundary
+     * after an empty bin splits the primitives as the one before it does (the same x, which
+     * cannot be below the best's), so only boundaries after a bin in use are priced, each
+     * against the first bin in use past it: the choice that pricing every boundary in order
+     * makes. */
     lo = lt_v4_splat(INFINITY), hi = lt_v4_splat(-INFINITY);
     n = 0;
-    for (int i = 0; i < nbins - 1; i++) {
+    for (lt_u32 m = used; m; ) {
+      int i = lt_low_bit(m);
+      m &= m - 1u;
+      if (m == 0) break; /* nothing to the right of the last bin in use */
+      int j = lt_low_bit(m);
       n += bins->count[a + i];
-      if (bins->count[a + i]) lo = lt_v4_min(bins->lo[a + i], lo), hi = lt_v4_max(bins->hi[a + i], hi);
-      if (n == 0 || right_count[i + 1] == 0) continue;
-      float x = lt_area4(lo, hi) * n + right_area[i + 1] * right_count[i + 1];
+      lo = lt_v4_min(bins->lo[a + i], lo), hi = lt_v4_max(bins->hi[a + i], hi);
+      float x = lt_area4(lo, hi) * n + right_area[j] * right_count[j];
       if (!(x < best_x)) continue;
       float cost = traversal_cost + intersection_cost * x / parent_area;
       if (cost < best.cost) best.axis = axis, best.bin = i, best.cost = cost, best.left_count = n, best_x = x;
@@ -177,9 +193,9 @@ LT_DEVICE lt_split lt_sah_best_split(const lt_bins *bins, int nbins, const lt_bo
 
   /* Both sides' primitive bounds, from the chosen axis's bins. */
   lt_v4 lo[2] = {lt_v4_splat(INFINITY), lt_v4_splat(INFINITY)}, hi[2] = {lt_v4_splat(-INFINITY), lt_v4_splat(-INFINITY)};
-  for (int i = 0; i < nbins; i++) {
-    int j = best.axis * LT_MAX_BINS + i, side = i > best.bin;
-    if (bins->count[j]) lo[side] = lt_v4_min(bins->lo[j], lo[side]), hi[side] = lt_v4_max(bins->hi[j], hi[side]);
+  for (lt_u32 m = bins->used[best.axis]; m; m &= m - 1u) {
+    int i = lt_low_bit(m), j = best.axis * LT_MAX_BINS + i, side = i > best.bin;
+    lo[side] = lt_v4_min(bins->lo[j], lo[side]), hi[side] = lt_v4_max(bins->hi[j], hi[side]);
   }
   best.left = lt_box_of4(lo[0], hi[0]), best.right = lt_box_of4(lo[1], hi[1]);
   return best;

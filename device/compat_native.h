@@ -45,6 +45,9 @@ typedef int32_t lt_vi4 __attribute__((vector_size(16)));
 #define LT_DEVICE_OUTLINE static __attribute__((noinline, unused))
 /* A hint that *p is read soon (the builders gather primitive boxes through the index). */
 #define lt_prefetch(p) __builtin_prefetch(p)
+/* The lowest and the highest set bit of a nonzero 32-bit mask. */
+#define lt_low_bit(m) __builtin_ctz(m)
+#define lt_high_bit(m) (31 - __builtin_clz(m))
 #if defined(__SSE__)
 #include <xmmintrin.h>
 /* a < b ? a : b and a > b ? a : b per lane, as the scalar code writes them. */

@@ -31,6 +31,8 @@ typedef int4 lt_vi4;
 #define lt_v4_splat(a) ((float4)(a))
 #define lt_v4_to_int(v) convert_int4_rtz(v)
 #define lt_prefetch(p) prefetch((p), 1)
+#define lt_low_bit(m) (31 - (int)clz((m) & (0u - (m)))) /* see compat_native.h */
+#define lt_high_bit(m) (31 - (int)clz(m))
 #define LT_UNROLL_2 _Pragma("unroll 2") /* see compat_native.h */
 #define LT_DEVICE_OUTLINE LT_DEVICE /* PoCL inlines everything into the work-group function */
 /* a < b ? a : b and a > b ? a : b per lane, as the scalar code writes them. */

@@ -42,7 +42,7 @@ static lt_split find_split(builder *b, int begin, int end, const lt_box *bounds)
     lt_bins_add(&bins, clo, scale, b->config->bins, lt_box_lo4(box), lt_box_hi4(box));
   }
   b->bvh->sort_ops += (uint64_t)lt_bin_sample_count(end - begin);
-  return lt_sah_best_split(&bins, b->config->bins, bounds, b->config->traversal_cost, b->config->intersection_cost);
+  return lt_sah_best_split(&bins, bounds, b->config->traversal_cost, b->config->intersection_cost);
 }
 
 /* Stable partition: the primitives of bins [0, s.bin] keep their order at the front, the
