@@ -24,6 +24,11 @@ done
   echo "- date: $(date -u +%Y-%m-%d)"
   echo "- trace_ms of the statistics (build and kernel compile excluded), medians over the runs; in each run every"
   echo "  backend, method and ray set is traced once, one after the other; one warm-up run first, not counted"
+  echo "- BVH2 is the host SAH BVH (\`builders/host/bvh_sah.c\`, 16 triangles a leaf at most, 32 bins) traced by the"
+  echo "  binary kernel; QBVH is that same tree collapsed 4 wide (the paper's layout); \"QBVH, 8 wide\" is what"
+  echo "  \`--structure qbvh\` traces natively where the CPU has AVX2 (OpenCL has the 4-wide layout only);"
+  echo "  \`bvh --build full\` is the pool's tree, for reference. Diffuse: one cosine-weighted bounce from every"
+  echo "  primary hit, unbounded, closest hit"
   echo
   echo "$tables"
 } >"$out"
