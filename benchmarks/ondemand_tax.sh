@@ -15,8 +15,8 @@ structures=${STRUCTURES:-"bvh kdtree"}
 echo "# The persistent kernel's tax on finished trees"
 echo
 lt_results_header "SCENES=\"$scenes\" STRUCTURES=\"$structures\"${OLD_BENCH:+ OLD_BENCH=OLD} benchmarks/ondemand_tax.sh $*"
-echo "- the machine was shared with other work while this ran: look at the ratios, measured side by side in one"
-echo "  process, more than at the absolute times"
+echo "- look at the ratios, measured side by side in one process, more than at the absolute times (the machine's"
+echo "  load moves those)"
 echo
 for scene in $scenes; do
   for structure in $structures; do
