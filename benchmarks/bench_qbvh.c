@@ -189,8 +189,7 @@ int main(int argc, char **argv) {
          binary_depth, qbvh_depth, deepest, mismatches ? "DIFFER" : "are identical");
 
   for (int b = 0; b < 2; b++)
-    for (int k = 0; ctx[b] && k < METHODS; k++)
-      if (m[b][k].s) lt_structure_destroy(m[b][k].s);
+    for (int k = 0; ctx[b] && k < METHODS; k++) lt_structure_destroy(m[b][k].s);
   for (int b = 0; b < 2; b++)
     if (ctx[b]) lt_context_destroy(ctx[b]);
   free(rays[0]), free(rays[1]), free(hits), free(check), free(both);

@@ -139,8 +139,9 @@ typedef struct lt_split {
   lt_box left, right;     /* bounds of each side's binned primitives */
 } lt_split;
 
-/* Prices every bin boundary on every axis; keeps the cheapest (the first on ties, axes in
- * order x, y, z, so that every builder makes the same choice). */
+/* The cheapest bin boundary on any axis (the first on ties, axes in order x, y, z, so that every
+ * builder makes the same choice): the one pricing every boundary in order finds, though only
+ * the boundaries after bins in use are priced (below). */
 LT_DEVICE lt_split lt_sah_best_split(const lt_bins *bins, const lt_box *bounds, float traversal_cost,
                                      float intersection_cost) {
   lt_split best;
