@@ -30,12 +30,21 @@ LT_DEVICE void lt_trace_batch_put(const lt_trace_batch *b, lt_i32 i, lt_hit_reco
 
 #ifndef __OPENCL_VERSION__
 #include <stdint.h>
-/* A native launch of a trace kernel: every work-group (thread) takes chunks of rays from
- * next_ray; counters are folded into 64 bits. */
+/* A native launch of a trace kernel. Work-group g owns a contiguous share of the rays and
+ * takes chunks of it from the front; once its share is done it takes chunks from the others'
+ * shares, so the groups finish together. Shares rather than one counter for all: with every
+ * group taking the next chunk of one counter, neighbouring chunks went to different cores, and
+ * two threads traced AO rays 13-15% slower (docs/notes/trace_speed.md, "Rays handed out in
+ * shares"). Counters are folded into 64 bits. */
+typedef struct lt__native_trace_share {
+  _Alignas(64) lt_u32 next; /* the share's next ray to hand out: its own cache line */
+  lt_u32 end;               /* one past the share's last ray */
+} lt__native_trace_share;
+
 typedef struct lt__native_trace_launch {
-  const void *view; /* the structure's view struct */
-  lt_u32 next_ray;  /* shared: the next ray to hand out */
-  int error;        /* set to 1 when a traversal would overflow its stack */
+  const void *view;                /* the structure's view struct */
+  lt__native_trace_share *shares;  /* one a work-group */
+  int error;                       /* set to 1 when a traversal would overflow its stack */
   uint64_t traversal_steps, intersections;
 } lt__native_trace_launch;
 #endif

@@ -13,7 +13,8 @@
  *                                chunks (zero at first), passed as LT_TRACE_RANGE's fifth argument
  *
  * OpenCL runs one work-item per ray; the native backend runs one thread per work-group, each
- * taking chunks of rays from a shared counter until none are left. No include guard. */
+ * taking chunks of rays from its own share of them, then from the others' (kernels/trace_kernel.h,
+ * lt__native_trace_share) until none are left. No include guard. */
 #include "kernels/trace_kernel.h"
 
 #ifdef __OPENCL_VERSION__
@@ -35,31 +36,35 @@ void LT_TRACE_NATIVE(void *arg) {
   enum { CHUNK = 64 };
   lt__native_trace_launch *launch = arg;
   const LT_TRACE_VIEW *view = launch->view;
-  lt_u32 count = (lt_u32)view->batch.count;
   lt_trace_counters counters = {0, 0};
   uint64_t steps = 0, tests = 0;
 #ifdef LT_TRACE_STATE
   LT_TRACE_STATE state;
   memset(&state, 0, sizeof state);
 #endif
-  for (;;) {
-    lt_u32 begin = lt_atomic_add_u32(&launch->next_ray, CHUNK);
-    if (begin >= count) break;
-    lt_u32 end = begin + CHUNK < count ? begin + CHUNK : count;
+  /* The group's own share first, then what is left of the others' (lt__native_trace_share). */
+  int groups = lt_num_groups();
+  for (int k = 0; k < groups; k++) {
+    lt__native_trace_share *share = &launch->shares[(lt_group_id() + k) % groups];
+    for (;;) {
+      lt_u32 begin = lt_atomic_add_u32(&share->next, CHUNK);
+      if (begin >= share->end) break;
+      lt_u32 end = begin + CHUNK < share->end ? begin + CHUNK : share->end;
 #if defined(LT_TRACE_RANGE) && defined(LT_TRACE_STATE)
-    if (LT_TRACE_RANGE(view, (lt_i32)begin, (lt_i32)end, &counters, &state) != 0)
-      __atomic_store_n(&launch->error, 1, __ATOMIC_RELAXED);
+      if (LT_TRACE_RANGE(view, (lt_i32)begin, (lt_i32)end, &counters, &state) != 0)
+        __atomic_store_n(&launch->error, 1, __ATOMIC_RELAXED);
 #elif defined(LT_TRACE_RANGE)
-    if (LT_TRACE_RANGE(view, (lt_i32)begin, (lt_i32)end, &counters) != 0)
-      __atomic_store_n(&launch->error, 1, __ATOMIC_RELAXED);
+      if (LT_TRACE_RANGE(view, (lt_i32)begin, (lt_i32)end, &counters) != 0)
+        __atomic_store_n(&launch->error, 1, __ATOMIC_RELAXED);
 #else
-    for (lt_u32 i = begin; i < end; i++)
-      if (LT_TRACE_ONE(view, (lt_i32)i, &counters) != 0) __atomic_store_n(&launch->error, 1, __ATOMIC_RELAXED);
+      for (lt_u32 i = begin; i < end; i++)
+        if (LT_TRACE_ONE(view, (lt_i32)i, &counters) != 0) __atomic_store_n(&launch->error, 1, __ATOMIC_RELAXED);
 #endif
 
-    /* Fold the 32-bit counters into 64-bit ones after every chunk. */
-    steps += counters.traversal_steps, tests += counters.intersections;
-    counters.traversal_steps = counters.intersections = 0;
+      /* Fold the 32-bit counters into 64-bit ones after every chunk. */
+      steps += counters.traversal_steps, tests += counters.intersections;
+      counters.traversal_steps = counters.intersections = 0;
+    }
   }
   __atomic_fetch_add(&launch->traversal_steps, steps, __ATOMIC_RELAXED);
   __atomic_fetch_add(&launch->intersections, tests, __ATOMIC_RELAXED);

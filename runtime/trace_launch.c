@@ -81,8 +81,17 @@ static lt_status trace_opencl(lt_context *ctx, const char *entry, lt__set_args_f
 }
 
 static lt_status trace_native(lt_context *ctx, void (*fn)(void *), const void *view, trace_batch *batch) {
-  lt__native_trace_launch launch = {view, 0, 0, 0, 0};
-  lt_status status = lt__native_run(ctx->work_groups, fn, &launch);
+  /* Each work-group's share of the rays: a contiguous stretch, as equal as the count allows. */
+  int groups = ctx->work_groups;
+  lt__native_trace_share *shares = aligned_alloc(_Alignof(lt__native_trace_share), groups * sizeof *shares);
+  if (!shares) return lt__fail(LT_ERROR_OUT_OF_MEMORY, "out of memory for %d work-groups' shares of rays", groups);
+  for (int g = 0; g < groups; g++) {
+    shares[g].next = (lt_u32)((uint64_t)batch->count * (uint64_t)g / (uint64_t)groups);
+    shares[g].end = (lt_u32)((uint64_t)batch->count * (uint64_t)(g + 1) / (uint64_t)groups);
+  }
+  lt__native_trace_launch launch = {view, shares, 0, 0, 0};
+  lt_status status = lt__native_run(groups, fn, &launch);
+  free(shares);
   batch->traversal_steps += launch.traversal_steps, batch->intersections += launch.intersections;
   return !status && launch.error ? overflow() : status;
 }
