@@ -7,10 +7,11 @@
 
 #include "builders/bvh_task.h"
 #include "device/kernel_args.h"
+#include "kernels/persistent_loop.h"
 #include "traversal/bvh_traverse.h"
 
-/* Rays a work-item takes at a time: one shared counter update per 64 rays, not per ray. */
-#define LT_OD_RAYS_PER_ITEM 64
+/* Rays a work-item takes at a time (kernels/persistent_loop.h). */
+#define LT_OD_RAYS_PER_ITEM LT_LOOP_RAYS_PER_WORK_ITEM
 
 /* The task kinds this workload runs, numbered for its pool. */
 enum { LT_OD_KIND_BVH_NODE = 0 };

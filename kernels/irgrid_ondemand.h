@@ -8,10 +8,11 @@
 
 #include "builders/irgrid_global.h"
 #include "device/kernel_args.h"
+#include "kernels/persistent_loop.h"
 #include "traversal/irgrid_traverse.h"
 
-/* Rays a work-item takes at a time. */
-#define LT_IRG_RAYS_PER_ITEM 64
+/* Rays a work-item takes at a time (kernels/persistent_loop.h). */
+#define LT_IRG_RAYS_PER_ITEM LT_LOOP_RAYS_PER_WORK_ITEM
 
 typedef struct lt_irg_args {
   lt_irg_build build;

@@ -7,10 +7,11 @@
 
 #include "builders/kd_task.h"
 #include "device/kernel_args.h"
+#include "kernels/persistent_loop.h"
 #include "traversal/kd_stackless.h"
 
-/* Rays a work-item takes at a time. */
-#define LT_KD_RAYS_PER_ITEM 64
+/* Rays a work-item takes at a time (kernels/persistent_loop.h). */
+#define LT_KD_RAYS_PER_ITEM LT_LOOP_RAYS_PER_WORK_ITEM
 
 /* The task kinds this workload runs, numbered for its pool. */
 enum { LT_KD_KIND_NODE = 0 };

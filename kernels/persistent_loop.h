@@ -38,6 +38,19 @@
  * work-item. The host refuses a larger --local-size before any launch. */
 #define LT_MAX_LOCAL_SIZE 256
 
+/* Rays a work-item of a tracing workload takes at a time (its LT_LOOP_ITEMS_PER_WORK_ITEM): one
+ * update of the shared counter a batch, not a ray. On OpenCL a work-group's work-items take
+ * every lsize-th ray of lsize * 64. On the native backend a work-group is one thread: with 64
+ * rays a batch, neighbouring stretches of the image went to different cores, and the any-hit
+ * guesses (traversal/bvh8_guess.h), which learn from the thread's last rays, and the caches
+ * lost much of that coherence; 512 traced house-grid:3x3@close's primary + 8 AO rows about a
+ * quarter faster on two threads (docs/notes/trace_speed.md, "Rays handed out in shares"). */
+#ifdef __OPENCL_VERSION__
+#define LT_LOOP_RAYS_PER_WORK_ITEM 64
+#else
+#define LT_LOOP_RAYS_PER_WORK_ITEM 512
+#endif
+
 /* What a work-group shares in local memory. */
 typedef struct lt_loop_shared {
   lt_pool_round round;
