@@ -7,11 +7,7 @@
 
 #include "builders/bvh_task.h"
 #include "device/kernel_args.h"
-#include "kernels/persistent_loop.h"
 #include "traversal/bvh_traverse.h"
-
-/* Rays a work-item takes at a time (kernels/persistent_loop.h). */
-#define LT_OD_RAYS_PER_ITEM LT_LOOP_RAYS_PER_WORK_ITEM
 
 /* The task kinds this workload runs, numbered for its pool. */
 enum { LT_OD_KIND_BVH_NODE = 0 };
@@ -93,7 +89,7 @@ LT_DEVICE void lt_od_flush(const lt_od_args *a, const lt_trace_counters *c) {
 #define LT_LOOP_ARGS lt_od_args
 #define LT_LOOP_POOL(a) (&(a)->build.pool)
 #define LT_LOOP_ITEM lt_bvh_ray
-#define LT_LOOP_ITEMS_PER_WORK_ITEM LT_OD_RAYS_PER_ITEM
+#define LT_LOOP_ITEMS_PER_WORK_ITEM LT_LOOP_RAYS_PER_WORK_ITEM
 #define LT_LOOP_ITEM_COUNT(a) ((a)->ray_count)
 #define LT_LOOP_START(a, q, i, c) lt_od_start(a, q, i, c)
 #define LT_LOOP_ADVANCE(a, q, c) lt_od_advance(a, q, c)

@@ -8,11 +8,7 @@
 
 #include "builders/irgrid_global.h"
 #include "device/kernel_args.h"
-#include "kernels/persistent_loop.h"
 #include "traversal/irgrid_traverse.h"
-
-/* Rays a work-item takes at a time (kernels/persistent_loop.h). */
-#define LT_IRG_RAYS_PER_ITEM LT_LOOP_RAYS_PER_WORK_ITEM
 
 typedef struct lt_irg_args {
   lt_irg_build build;
@@ -61,7 +57,7 @@ LT_DEVICE void lt_irg_flush(const lt_irg_args *a, const lt_trace_counters *c) {
 #define LT_LOOP_ARGS lt_irg_args
 #define LT_LOOP_POOL(a) (&(a)->build.pool)
 #define LT_LOOP_ITEM lt_irg_ray
-#define LT_LOOP_ITEMS_PER_WORK_ITEM LT_IRG_RAYS_PER_ITEM
+#define LT_LOOP_ITEMS_PER_WORK_ITEM LT_LOOP_RAYS_PER_WORK_ITEM
 #define LT_LOOP_ITEM_COUNT(a) ((a)->ray_count)
 #define LT_LOOP_START(a, q, i, c) lt_irg_ray_start(q, (a)->rays + 8 * (long)(i), (a)->flags)
 #define LT_LOOP_ADVANCE(a, q, c) lt_irg_args_advance(a, q, c)
@@ -81,7 +77,7 @@ LT_DEVICE void lt_irg_flush(const lt_irg_args *a, const lt_trace_counters *c) {
 #define LT_LOOP_ARGS lt_irg_args
 #define LT_LOOP_POOL(a) (&(a)->build.pool)
 #define LT_LOOP_ITEM lt_irg_ray
-#define LT_LOOP_ITEMS_PER_WORK_ITEM LT_IRG_RAYS_PER_ITEM
+#define LT_LOOP_ITEMS_PER_WORK_ITEM LT_LOOP_RAYS_PER_WORK_ITEM
 #define LT_LOOP_ITEM_COUNT(a) 0
 #define LT_LOOP_START(a, q, i, c) lt_irg_ray_start(q, (a)->rays + 8 * (long)(i), (a)->flags)
 #define LT_LOOP_ADVANCE(a, q, c) lt_irg_args_advance(a, q, c)

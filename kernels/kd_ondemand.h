@@ -7,11 +7,7 @@
 
 #include "builders/kd_task.h"
 #include "device/kernel_args.h"
-#include "kernels/persistent_loop.h"
 #include "traversal/kd_stackless.h"
-
-/* Rays a work-item takes at a time (kernels/persistent_loop.h). */
-#define LT_KD_RAYS_PER_ITEM LT_LOOP_RAYS_PER_WORK_ITEM
 
 /* The task kinds this workload runs, numbered for its pool. */
 enum { LT_KD_KIND_NODE = 0 };
@@ -87,7 +83,7 @@ LT_DEVICE void lt_kd_flush(const lt_kd_args *a, const lt_trace_counters *c) {
 #define LT_LOOP_ARGS lt_kd_args
 #define LT_LOOP_POOL(a) (&(a)->build.pool)
 #define LT_LOOP_ITEM lt_kd_ray
-#define LT_LOOP_ITEMS_PER_WORK_ITEM LT_KD_RAYS_PER_ITEM
+#define LT_LOOP_ITEMS_PER_WORK_ITEM LT_LOOP_RAYS_PER_WORK_ITEM
 #define LT_LOOP_ITEM_COUNT(a) ((a)->ray_count)
 #define LT_LOOP_START(a, q, i, c) lt_kd_start(a, q, i)
 #define LT_LOOP_ADVANCE(a, q, c) lt_kd_args_advance(a, q, c)
