@@ -5,7 +5,7 @@
 #define LT_KERNEL_IRGRID_TRACE_H
 
 #include "kernels/trace_kernel.h"
-#include "traversal/irgrid_traverse.h"
+#include "traversal/irgrid_glide.h"
 
 typedef struct lt_irg_trace_view {
   lt_trace_batch batch;
@@ -39,7 +39,7 @@ LT_DEVICE int lt_irg_trace_one(const lt_irg_trace_view *t, lt_i32 i, lt_trace_co
   v.refs = t->refs, v.verts = t->verts, v.pool = 0, v.fine_dims = t->fine_dims, v.shift = t->shift;
   lt_irg_ray q;
   lt_irg_ray_start(&q, t->batch.rays + 8 * (long)i, t->batch.flags);
-  int done = lt_irg_advance(&v, &q, t->batch.flags, c);
+  int done = lt_irg_glide(&v, &q, t->batch.flags, c) || lt_irg_advance(&v, &q, t->batch.flags, c);
   lt_trace_batch_put(&t->batch, i, q.hit);
   return done ? 0 : -1;
 }
