@@ -32,11 +32,17 @@ typedef struct lt_irg_trace_view {
   X(VAL, lt_i32, shift, shift)               \
   X(VAL, lt_i32, narrow, narrow)
 
-LT_DEVICE int lt_irg_trace_one(const lt_irg_trace_view *t, lt_i32 i, lt_trace_counters *c) {
+/* What the walk reads, from the kernel's view. */
+LT_DEVICE lt_irg_view lt_irg_trace_walk_view(const lt_irg_trace_view *t) {
   lt_irg_view v;
   v.header = t->header, v.top_map = t->top_map, v.sub_maps = t->sub_maps, v.cells = t->cells;
   v.cells16 = t->narrow ? (LT_GLOBAL const lt_irg_cell16 *)t->cells : 0;
   v.refs = t->refs, v.verts = t->verts, v.pool = 0, v.fine_dims = t->fine_dims, v.shift = t->shift;
+  return v;
+}
+
+LT_DEVICE int lt_irg_trace_one(const lt_irg_trace_view *t, lt_i32 i, lt_trace_counters *c) {
+  lt_irg_view v = lt_irg_trace_walk_view(t);
   lt_irg_ray q;
   lt_irg_ray_start(&q, t->batch.rays + 8 * (long)i, t->batch.flags);
   int done = lt_irg_glide(&v, &q, t->batch.flags, c) || lt_irg_advance(&v, &q, t->batch.flags, c);

@@ -14,6 +14,7 @@
 #pragma GCC target("avx2,bmi,bmi2")
 #endif
 #define LT_IRG_TRACE_NAME lt__native_irgrid_trace_avx2
+#define LT_IRG_GLIDE_SSE41 1 /* the fast walk's certificates on three lanes (traversal/irgrid_glide_sse41.h) */
 #include "kernels/native_irgrid_trace_body.h"
 #if defined(__clang__)
 #pragma clang attribute pop

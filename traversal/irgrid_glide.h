@@ -48,6 +48,12 @@
 
 #include "traversal/irgrid_traverse.h"
 
+/* A native build for x86 with SSE4.1 that defines this to 1 runs each step's certificate on
+ * the three axes at once (traversal/irgrid_glide_sse41.h: the same floats, the same hits). */
+#ifndef LT_IRG_GLIDE_SSE41
+#define LT_IRG_GLIDE_SSE41 0
+#endif
+
 /* Where the ray crosses fine plane j (0 <= j <= n) of axis k, in voxel order (not travel
  * order): lt_grid_crossing's arithmetic. */
 LT_DEVICE float lt_irg_glide_crossing(const lt_grid_walk *w, int j) {
@@ -63,38 +69,46 @@ LT_DEVICE int lt_irg_glide_stop(const lt_irg_view *v, lt_irg_ray *q, float E, in
   return 0;
 }
 
-/* Runs a ray that has not started (state LT_IRG_RAY_START) by the fast walk; returns 1 when
- * it is answered, 0 when lt_irg_advance is to finish it (its walk is then set up). */
-LT_DEVICE int lt_irg_glide(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_trace_counters *c) {
-  int any_hit = flags & LT_QUERY_FLAG_ANY, widen = !(flags & LT_QUERY_FLAG_PLAIN_SLABS);
+/* Enters the grid: 1 when the ray misses it (answered), else 0 with t_start, q->t_far, the
+ * axes (the conservative walk's fields, which it sets again if it takes over) and the first
+ * voxel, guessed. */
+LT_DEVICE int lt_irg_glide_enter(const lt_irg_view *v, lt_irg_ray *q, int widen, float *t_start, int *vox) {
   float lo[3] = {v->header->lo.x, v->header->lo.y, v->header->lo.z};
   float hi[3] = {v->header->hi.x, v->header->hi.y, v->header->hi.z};
   float t_near, t_far;
   q->state = LT_IRG_RAY_DONE;
   if (!q->r.valid || !lt_ray_slabs(&q->r, lo, hi, widen, &t_near, &t_far)) return 1;
-  float t_start = t_near > q->r.tmin ? t_near : q->r.tmin;
-  if (!(t_start <= t_far && t_start <= q->r.tmax)) return 1;
-  q->t_far = t_far;
-
-  /* The axes (the conservative walk's fields, which it sets again if it takes over) and the
-   * first voxel, guessed. */
-  int vox[3];
+  float t = t_near > q->r.tmin ? t_near : q->r.tmin;
+  if (!(t <= t_far && t <= q->r.tmax)) return 1;
+  q->t_far = t_far, *t_start = t;
   for (int k = 0; k < 3; k++) {
     lt_grid_walk *w = &q->w[k];
     w->axis = lt_grid_axis_of(v->header, k);
     w->org = q->r.org[k], w->inv = q->r.inv_dir[k];
     w->sign = q->r.dir[k] > 0.0f ? 1 : q->r.dir[k] < 0.0f ? -1 : 0;
-    vox[k] = w->sign == 0 ? lt_grid_last_cell(&w->axis, w->org)
-                          : lt_grid_cell_guess(&w->axis, w->org + t_start * q->r.dir[k]);
+    vox[k] = w->sign == 0 ? lt_grid_last_cell(&w->axis, w->org) : lt_grid_cell_guess(&w->axis, w->org + t * q->r.dir[k]);
   }
+  return 0;
+}
+
+#if LT_IRG_GLIDE_SSE41
+#include "traversal/irgrid_glide_sse41.h"
+#else
+/* Runs a ray that has not started (state LT_IRG_RAY_START) by the fast walk; returns 1 when
+ * it is answered, 0 when lt_irg_advance is to finish it (its walk is then set up). */
+LT_DEVICE int lt_irg_glide(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_trace_counters *c) {
+  int any_hit = flags & LT_QUERY_FLAG_ANY, widen = !(flags & LT_QUERY_FLAG_PLAIN_SLABS);
+  float t_start, t_far;
+  int vox[3];
+  if (lt_irg_glide_enter(v, q, widen, &t_start, vox)) return 1;
+  t_far = q->t_far;
 
   float E = t_start, fx[3] = {INFINITY, INFINITY, INFINITY};
   int a = -1;
   int cap = 3 * (q->w[0].axis.n + q->w[1].axis.n + q->w[2].axis.n + 3);
-  for (int step = 0; step < cap; step++) {
-    lt_i32 cell = lt_irg_lookup(v->top_map, v->sub_maps, lt_irg_view_packed(v), v->fine_dims, v->shift, vox[0], vox[1],
-                                vox[2]);
-    if (cell < 0) break;
+  int packed = lt_irg_view_packed(v);
+  lt_i32 cell = lt_irg_lookup(v->top_map, v->sub_maps, packed, v->fine_dims, v->shift, vox[0], vox[1], vox[2]);
+  for (int step = 0; step < cap && cell >= 0; step++) {
     lt_irg_cell p = lt_irg_cell_get(v->cells, v->cells16, cell);
 
     /* The certificate (the header's conditions), the clean interval's ends L and H, and the
@@ -118,34 +132,40 @@ LT_DEVICE int lt_irg_glide(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_tr
       if (q->w[k].sign != 0 && (!(f[k] > L) || (k != a && !(fx[k] > L)))) ok = 0;
     if (!ok || !(H > E) || b < 0) break;
 
+    /* The next voxel, past the far face on b and guessed on the others within M's box, and its
+     * cell, looked up before M's triangles are tested so that the loads overlap the tests. */
+    const lt_grid_walk *w = &q->w[b];
+    int next = w->sign > 0 ? p.hi[b] : p.lo[b] - 1, leaving = next < 0 || next >= w->axis.n;
+    lt_i32 next_cell = -1;
+    if (!leaving) {
+      for (int k = 0; k < 3; k++) {
+        const lt_grid_walk *x = &q->w[k];
+        if (k == b) {
+          vox[k] = next;
+        } else if (x->sign != 0) {
+          int g = lt_grid_cell_guess(&x->axis, x->org + H * q->r.dir[k]);
+          vox[k] = g < p.lo[k] ? p.lo[k] : g >= p.hi[k] ? p.hi[k] - 1 : g;
+        }
+      }
+      next_cell = lt_irg_lookup(v->top_map, v->sub_maps, packed, v->fine_dims, v->shift, vox[0], vox[1], vox[2]);
+    }
+
     if (lt_irg_test_cell(v, q, cell, &p, any_hit, c)) return 1;
     if (q->hit.t < H || !(H <= t_far)) return 1;
 
     /* Leaving the grid: done unless a voxel is still entered on another axis by t_far. */
-    const lt_grid_walk *w = &q->w[b];
-    int next = w->sign > 0 ? p.hi[b] : p.lo[b] - 1;
-    if (next < 0 || next >= w->axis.n) {
+    if (leaving) {
       int more = 0;
       for (int k = 0; k < 3; k++) more |= k != b && f[k] <= t_far;
       if (!more) return 1;
       E = H;
       break;
     }
-
-    /* The next voxel: past the far face on b, guessed on the others within M's box. */
-    for (int k = 0; k < 3; k++) {
-      const lt_grid_walk *x = &q->w[k];
-      if (k == b) {
-        vox[k] = next;
-      } else if (x->sign != 0) {
-        int g = lt_grid_cell_guess(&x->axis, x->org + H * q->r.dir[k]);
-        vox[k] = g < p.lo[k] ? p.lo[k] : g >= p.hi[k] ? p.hi[k] - 1 : g;
-      }
-      fx[k] = f[k];
-    }
-    E = H, a = b;
+    for (int k = 0; k < 3; k++) fx[k] = f[k];
+    E = H, a = b, cell = next_cell;
   }
   return lt_irg_glide_stop(v, q, E, widen);
 }
+#endif
 
 #endif
