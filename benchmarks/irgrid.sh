@@ -24,6 +24,7 @@ header() {
   echo "- Embree $(dpkg-query -W -f='${Version}' libembree-dev 2>/dev/null || echo 'not installed') (robust flag); date $(date -u +%Y-%m-%d)"
   echo "- rays: primary rays from each scene's outer camera (512x512 unless --size says otherwise);"
   echo "  times are milliseconds without scene loading and kernel compilation, medians of the runs,"
+  echo "  a finished structure's trace time the median of 3 traces after the first (Embree's too),"
   echo "  the variants interleaved run by run; every lazytrace variant's closest hits equal the full"
   echo "  SAH BVH's bit for bit (the benchmark stops otherwise)"
   echo "- irregular grid defaults: lambda1 (top cells per triangle) 0.12, lambda2 (sub-voxels per"
@@ -48,8 +49,9 @@ want 1 && {
   echo
   header "$@"
   columns
-  echo "- every structure built in full; build ms: the build alone, trace ms: the primary rays on the"
-  echo "  finished structure, Mrays/s: of that trace; trace / BVH and memory / BVH: relative to the"
+  echo "- every structure built in full; build ms: the build alone, first trace ms: the primary rays"
+  echo "  traced right after the build, trace ms: traced again (the median of 3), Mrays/s: of that"
+  echo "  trace; trace / BVH and memory / BVH: relative to the"
   echo "  full SAH BVH of the same run (x); Embree has no step or test counts and no memory figure"
   echo "- merge within top cells: LT_IRGRID_MERGE_TOP (cells never merge across top cells), 3 expansion passes"
   echo

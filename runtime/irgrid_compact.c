@@ -7,7 +7,8 @@
  * the cells some voxel maps to, renumbered in the order the voxel map first meets them (top
  * cells x fastest, then sub-voxels: cells near in space end up near in memory), each cell's
  * list copied after the previous one's (or sharing an earlier cell's equal list), and each sub-map
- * rewritten as the octree of fewest entries below its level. When the fine grid is at most
+ * rewritten as an octree below its level (the finest top within LT_IRG_MAP_SLACK of the fewest
+ * entries). When the fine grid is at most
  * LT_IRG_CELL16_MAX voxels a side (every Table 1 scene's is), the cells are written as
  * lt_irg_cell16, half the bytes, the lists packed (count first, then the steps between
  * triangles as varints: lt_irg_list_pack) and the sub-map entries in 3 bytes; larger fine grids
@@ -21,6 +22,14 @@
 
 #include "runtime/error.h"
 #include "runtime/irgrid_host.h"
+
+/* How many times the fewest entries a top cell's compacted sub-map may take to be one level
+ * flatter: every octree level below the top is one more dependent load in each lookup, and
+ * lookups are on the walk's critical path. Measured at 2 against 1 (the fewest), with the
+ * fast walk (docs/notes/irgrid.md, "The fast walk"): sphere:6's primary trace 1.24x -> 1.09x
+ * the SAH BVH's time, hairball:3000 1.17x -> 1.07x; the map 1.1-1.4x larger (hairball:3000
+ * 11.29 -> 12.80 MB, house-grid:3x3 14.34 -> 18.39 MB). */
+#define LT_IRG_MAP_SLACK 2.0
 
 /* The compact arrays, built on the host from a copy of the grid's. */
 typedef struct compacted {
@@ -187,9 +196,9 @@ static lt_status compact_arrays(const lt__irgrid *g, lt__irgrid_arrays *a, int n
   }
   for (int i = 0; i < a->cell_count; i++) renumber[i] = -1;
 
-  /* Cells in the order the voxel map meets them; sub-maps one after another, each as the
-   * octree that takes the fewest entries (the shallowest of those), its top at the level
-   * whose sub-voxels the top map's entry names. */
+  /* Cells in the order the voxel map meets them; sub-maps one after another, each as an
+   * octree whose top is the finest level that takes at most LT_IRG_MAP_SLACK times the fewest
+   * entries, at or below the level whose sub-voxels the top map's entry names. */
   octree o = {NULL, 0, renumber, a, c, 0};
   for (int t = 0; t < g->top_count; t++) {
     lt_i32 entry = a->top_map[t];
@@ -201,15 +210,18 @@ static lt_status compact_arrays(const lt__irgrid *g, lt__irgrid_arrays *a, int n
     lt_i32 *sub = a->sub_maps + LT_IRG_ENTRY_BASE(entry);
     level = coarsen(sub, level);
     o.map = sub, o.side = 1 << level;
-    int top = level;
-    size_t best = (size_t)1 << (3 * level);
+    size_t sizes[LT_IRG_MAX_LEVEL + 1], best = (size_t)1 << (3 * level);
+    sizes[level] = best;
     for (int l = level - 1; l >= 0; l--) {
       int width = 1 << (level - l), side = 1 << l;
       size_t size = (size_t)1 << (3 * l);
       for (int s = 0; s < side * side * side; s++)
         size += octree_size(&o, s % side * width, s / side % side * width, s / (side * side) * width, width);
-      if (size < best) best = size, top = l;
+      sizes[l] = size;
+      if (size < best) best = size;
     }
+    int top = level;
+    while (top > 0 && (double)sizes[top] > LT_IRG_MAP_SLACK * (double)best) top--;
     int width = 1 << (level - top), side = 1 << top;
     lt_i32 base = c->sub_count;
     c->top_map[t] = LT_IRG_ENTRY(top, base);
