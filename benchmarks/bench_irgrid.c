@@ -6,6 +6,7 @@
  *   bench_irgrid densities [--runs R] [--size N] SCENE...   Table 2: lambda1 x lambda2, two-level grid
  *   bench_irgrid uniform   [--runs R] [--size N] SCENE...   Table 5: merge and expansion on uniform grids
  *   bench_irgrid ondemand  [--runs R] [--size N] SCENE...   full grid against top cells built on demand
+ *   bench_irgrid trace     [--runs R] [--size N] SCENE...   Table 1's full grid and SAH BVH rows alone
  *   bench_irgrid sweep     [--runs R] [--size N] [--max M] [--csv FILE]   house-row:1..M
  *
  * Rays: N x N primary rays from each scene's outer camera (SCENE@outer unless SCENE names a
@@ -317,6 +318,41 @@ static void table1(int argc, char **argv) {
   }
 }
 
+/* ---- The trace target: the full irregular grid against the SAH BVH, nothing else ---- */
+
+/* Table 1's "+ merge + expansion" and SAH BVH rows alone (and Embree), so that their trace times
+ * can be measured with more runs in the time Table 1's slow two-level builds take. */
+static void trace_target(int argc, char **argv) {
+  printf(
+      "| scene (triangles) | irregular grid trace ms | SAH BVH trace ms | Embree trace ms | grid / BVH (median) |"
+      " grid / BVH, run by run | grid memory / BVH |\n"
+      "|---|---:|---:|---:|---:|---|---:|\n");
+  for (int i = 0; i < argc; i++) {
+    workload w;
+    workload_load(&w, argv[i]);
+    enum { GRID, BVH, EMBREE, COUNT };
+    variant v[COUNT];
+    variant_set(&v[GRID], irgrid(LT_BUILD_FULL, LT_IRGRID_MERGE_ON, 3, 0, 0), 0, "irregular grid");
+    variant_set(&v[BVH], bvh_full(), 0, "SAH BVH (full)");
+    variant_set(&v[EMBREE], bvh_full(), 1, "Embree");
+    run_all(&w, v, COUNT);
+    /* The ratio of each run's two times (measured side by side), and their median: on a noisy
+     * machine the medians of the two columns can come from runs of different speeds. */
+    char each[256] = "";
+    double ratios[MAX_RUNS];
+    for (int run = 0; run < runs; run++) {
+      size_t used = strlen(each);
+      ratios[run] = v[GRID].v[F_TRACE][run] / v[BVH].v[F_TRACE][run];
+      snprintf(each + used, sizeof each - used, "%s%.2f", run ? ", " : "", ratios[run]);
+    }
+    printf("| %s (%zu) | %s | %s | %s | %s | %s | %s |\n", argv[i], lt_scene_triangle_count(w.scene),
+           num(med(&v[GRID], F_TRACE), 1), num(med(&v[BVH], F_TRACE), 1), v[EMBREE].ok ? num(med(&v[EMBREE], F_TRACE), 1) : "n/a",
+           num(lt_bench_median(ratios, runs), 2), each,
+           ratio(med(&v[GRID], F_MEMORY), med(&v[BVH], F_MEMORY), 2));
+    workload_free(&w);
+  }
+}
+
 /* ---- Table 2: the densities ---- */
 
 static const float lambda1s[3] = {0.012f, 0.04f, 0.12f}, lambda2s[3] = {0.24f, 0.8f, 2.4f};
@@ -520,7 +556,7 @@ static void sweep(int max, FILE *csv) {
 
 static int usage(void) {
   fprintf(stderr,
-          "usage: bench_irgrid table1|densities|uniform|ondemand [--runs R] [--size N] [--warm W] SCENE...\n"
+          "usage: bench_irgrid table1|densities|uniform|ondemand|trace [--runs R] [--size N] [--warm W] SCENE...\n"
           "       bench_irgrid sweep [--runs R] [--size N] [--max M] [--csv FILE]\n"
           "(R in 1..%d, default 3; N default 512; W in 0..%d, default 3: a finished structure's trace\n"
           " time is the median of W traces after the first; M default 16)\n",
@@ -553,17 +589,17 @@ int main(int argc, char **argv) {
   if (runs < 1 || runs > MAX_RUNS || size < 1 || size > 8192 || max < 1 || warm < 0 || warm > MAX_RUNS)
     return usage();
   /* The experiments taking scenes, then the sweep (which makes its own). */
-  static const char *const names[] = {"table1", "densities", "uniform", "ondemand", "sweep"};
-  static void (*const experiments[])(int, char **) = {table1, densities, uniform, ondemand};
+  static const char *const names[] = {"table1", "densities", "uniform", "ondemand", "trace", "sweep"};
+  static void (*const experiments[])(int, char **) = {table1, densities, uniform, ondemand, trace_target};
   int e = 0;
-  while (e < 5 && strcmp(argv[1], names[e]) != 0) e++;
-  if (e == 5) return fprintf(stderr, "bench_irgrid: unknown experiment %s\n", argv[1]), usage();
-  if (e < 4 && nscenes == 0) return fprintf(stderr, "bench_irgrid: %s needs at least one scene\n", argv[1]), usage();
+  while (e < 6 && strcmp(argv[1], names[e]) != 0) e++;
+  if (e == 6) return fprintf(stderr, "bench_irgrid: unknown experiment %s\n", argv[1]), usage();
+  if (e < 5 && nscenes == 0) return fprintf(stderr, "bench_irgrid: %s needs at least one scene\n", argv[1]), usage();
   FILE *csv = NULL;
   if (csv_path && !(csv = fopen(csv_path, "w"))) return fprintf(stderr, "bench_irgrid: cannot write %s\n", csv_path), 1;
   fprintf(stderr, "bench_irgrid %s: %d run(s), %dx%d primary rays, %s\n", names[e], runs, size, size,
           lt_context_device_name(native_context()));
-  if (e < 4)
+  if (e < 5)
     experiments[e](nscenes, scenes);
   else
     sweep(max, csv);
