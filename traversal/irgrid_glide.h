@@ -73,14 +73,8 @@ LT_DEVICE int lt_irg_glide_stop(const lt_irg_view *v, lt_irg_ray *q, float E, in
  * axes (the conservative walk's fields, which it sets again if it takes over) and the first
  * voxel, guessed. */
 LT_DEVICE int lt_irg_glide_enter(const lt_irg_view *v, lt_irg_ray *q, int widen, float *t_start, int *vox) {
-  float lo[3] = {v->header->lo.x, v->header->lo.y, v->header->lo.z};
-  float hi[3] = {v->header->hi.x, v->header->hi.y, v->header->hi.z};
-  float t_near, t_far;
-  q->state = LT_IRG_RAY_DONE;
-  if (!q->r.valid || !lt_ray_slabs(&q->r, lo, hi, widen, &t_near, &t_far)) return 1;
-  float t = t_near > q->r.tmin ? t_near : q->r.tmin;
-  if (!(t <= t_far && t <= q->r.tmax)) return 1;
-  q->t_far = t_far, *t_start = t;
+  if (lt_irg_enter(v, q, widen, t_start)) return 1;
+  float t = *t_start;
   for (int k = 0; k < 3; k++) {
     lt_grid_walk *w = &q->w[k];
     w->axis = lt_grid_axis_of(v->header, k);

@@ -283,20 +283,29 @@ LT_DEVICE int lt_irg_visit(const lt_irg_view *v, lt_irg_ray *q, const int *lo, c
   return -1;
 }
 
+/* A ray entering the grid (the conservative slab test of its box, whose widened far end bounds
+ * every cell's): 1 when it misses (answered, state DONE), else 0 with t_start, where the walk
+ * begins, and q->t_far set (state still DONE until the caller sets up a walk). */
+LT_DEVICE int lt_irg_enter(const lt_irg_view *v, lt_irg_ray *q, int widen, float *t_start) {
+  float lo[3] = {v->header->lo.x, v->header->lo.y, v->header->lo.z};
+  float hi[3] = {v->header->hi.x, v->header->hi.y, v->header->hi.z};
+  float t_near, t_far;
+  q->state = LT_IRG_RAY_DONE;
+  if (!q->r.valid || !lt_ray_slabs(&q->r, lo, hi, widen, &t_near, &t_far)) return 1;
+  float t = t_near > q->r.tmin ? t_near : q->r.tmin;
+  if (!(t <= t_far && t <= q->r.tmax)) return 1;
+  q->t_far = t_far, *t_start = t;
+  return 0;
+}
+
 /* Advances a ray; 1 when it is answered, 0 while it waits for a top cell (requested from the
  * pool). flags are the query flags. */
 LT_DEVICE int lt_irg_advance(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_trace_counters *c) {
   int any_hit = flags & LT_QUERY_FLAG_ANY, widen = !(flags & LT_QUERY_FLAG_PLAIN_SLABS);
   if (q->state == LT_IRG_RAY_DONE) return 1;
   if (q->state == LT_IRG_RAY_START) {
-    float lo[3] = {v->header->lo.x, v->header->lo.y, v->header->lo.z};
-    float hi[3] = {v->header->hi.x, v->header->hi.y, v->header->hi.z};
-    float t_near, t_far;
-    q->state = LT_IRG_RAY_DONE;
-    if (!q->r.valid || !lt_ray_slabs(&q->r, lo, hi, widen, &t_near, &t_far)) return 1;
-    float t_start = t_near > q->r.tmin ? t_near : q->r.tmin;
-    if (!(t_start <= t_far && t_start <= q->r.tmax)) return 1;
-    q->t_far = t_far;
+    float t_start;
+    if (lt_irg_enter(v, q, widen, &t_start)) return 1;
     for (int k = 0; k < 3; k++) lt_grid_walk_start(&q->w[k], &q->r, v->header, k, t_start, widen);
     q->state = LT_IRG_RAY_VISIT;
   }
