@@ -17,7 +17,8 @@
 #if LT_IRG_GLIDE_SSE41
 /* Rays in flight on one thread: each step of one ray is a chain of dependent loads and
  * arithmetic (the cell, its faces, the next voxel, its lookup), so the steps of a few rays taken
- * in turn overlap. */
+ * in turn overlap. Two measured faster than four or eight (docs/notes/irgrid.md, "The fast
+ * walk"). */
 #define LT_IRG_IN_FLIGHT 2
 
 /* Rays [begin, end): each slot holds a ray on the fast walk, refilled as rays are answered. */
