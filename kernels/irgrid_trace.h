@@ -41,6 +41,9 @@ LT_DEVICE lt_irg_view lt_irg_trace_walk_view(const lt_irg_trace_view *t) {
   return v;
 }
 
+/* One ray at a time (the native AVX2 kernel steps two at a time instead:
+ * kernels/native_irgrid_trace_body.h). */
+#if !LT_IRG_GLIDE_SSE41
 LT_DEVICE int lt_irg_trace_one(const lt_irg_trace_view *t, lt_i32 i, lt_trace_counters *c) {
   lt_irg_view v = lt_irg_trace_walk_view(t);
   lt_irg_ray q;
@@ -49,5 +52,6 @@ LT_DEVICE int lt_irg_trace_one(const lt_irg_trace_view *t, lt_i32 i, lt_trace_co
   lt_trace_batch_put(&t->batch, i, q.hit);
   return done ? 0 : -1;
 }
+#endif
 
 #endif

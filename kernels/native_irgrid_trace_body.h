@@ -61,6 +61,8 @@ static int lt_irg_trace_range(const lt_irg_trace_view *t, lt_i32 begin, lt_i32 e
 void LT_IRG_TRACE_NAME(void *arg);
 #define LT_TRACE_NATIVE LT_IRG_TRACE_NAME
 #define LT_TRACE_VIEW   lt_irg_trace_view
+#if !LT_IRG_GLIDE_SSE41
 #define LT_TRACE_ONE    lt_irg_trace_one
+#endif
 #include "kernels/trace_kernel_body.h"
 #undef LT_IRG_TRACE_NAME

@@ -27,8 +27,8 @@
  * flatter: every octree level below the top is one more dependent load in each lookup, and
  * lookups are on the walk's critical path. Measured at 2 against 1 (the fewest), with the
  * fast walk (docs/notes/irgrid.md, "The fast walk"): sphere:6's primary trace 1.24x -> 1.09x
- * the SAH BVH's time, hairball:3000 1.17x -> 1.07x; the map 1.1-1.4x larger (hairball:3000
- * 11.29 -> 12.80 MB, house-grid:3x3 14.34 -> 18.39 MB). */
+ * the SAH BVH's time, hairball:3000 1.17x -> 1.07x; the map 1.1-1.5x larger (hairball:3000
+ * 11.29 -> 12.80 MB, teapot-stadium 10.60 -> 15.64 MB; docs/results/irgrid_compaction.md). */
 #define LT_IRG_MAP_SLACK 2.0
 
 /* The compact arrays, built on the host from a copy of the grid's. */

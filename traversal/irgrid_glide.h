@@ -86,6 +86,7 @@ LT_DEVICE int lt_irg_glide_enter(const lt_irg_view *v, lt_irg_ray *q, int widen,
 }
 
 #if LT_IRG_GLIDE_SSE41
+/* Steps instead (lt_irg_glide_begin, lt_irg_glide_step), for a kernel with rays in flight. */
 #include "traversal/irgrid_glide_sse41.h"
 #else
 /* Runs a ray that has not started (state LT_IRG_RAY_START) by the fast walk; returns 1 when

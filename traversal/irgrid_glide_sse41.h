@@ -97,7 +97,10 @@ static inline int lt_irg_glide_step(const lt_irg_view *v, const lt_irg_glide_gri
   int any_hit = flags & LT_QUERY_FLAG_ANY, widen = !(flags & LT_QUERY_FLAG_PLAIN_SLABS);
   lt_irg_ray *q = &s->q;
   float E = s->E;
-  if (s->cell < 0 || --s->steps_left < 0) return lt_irg_glide_stop(v, q, E, widen) - 1;
+  if (s->cell < 0 || --s->steps_left < 0) {
+    lt_irg_glide_stop(v, q, E, widen);
+    return -1;
+  }
   __m128 inf = _mm_set1_ps(INFINITY);
   __m128i one = _mm_set1_epi32(1);
   lt_irg_cell p = lt_irg_cell_get(v->cells, v->cells16, s->cell);
@@ -117,7 +120,10 @@ static inline int lt_irg_glide_step(const lt_irg_view *v, const lt_irg_glide_gri
   __m128 ok = _mm_and_ps(_mm_cmpord_ps(nw, nw), _mm_or_ps(_mm_cmplt_ps(nw, Ev), s->on_a));
   ok = _mm_and_ps(ok, _mm_cmpgt_ps(f, Lv));
   ok = _mm_and_ps(ok, _mm_or_ps(_mm_cmpgt_ps(s->fx, Lv), s->on_a));
-  if (_mm_movemask_ps(ok) != 15 || !(H > E) || !(H < INFINITY)) return lt_irg_glide_stop(v, q, E, widen) - 1;
+  if (_mm_movemask_ps(ok) != 15 || !(H > E) || !(H < INFINITY)) {
+    lt_irg_glide_stop(v, q, E, widen);
+    return -1;
+  }
   int b = __builtin_ctz((unsigned)_mm_movemask_ps(_mm_cmpeq_ps(f, _mm_set1_ps(H))));
   __m128 on_b = _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_setr_epi32(0, 1, 2, 3), _mm_set1_epi32(b)));
 
@@ -144,21 +150,11 @@ static inline int lt_irg_glide_step(const lt_irg_view *v, const lt_irg_glide_gri
   /* Leaving the grid: done unless a voxel is still entered on another axis by t_far. */
   if (leaving) {
     if (!(_mm_movemask_ps(_mm_andnot_ps(on_b, _mm_cmple_ps(f, _mm_set1_ps(q->t_far)))) & 7)) return 1;
-    return lt_irg_glide_stop(v, q, H, widen) - 1;
+    lt_irg_glide_stop(v, q, H, widen);
+    return -1;
   }
   s->fx = f, s->on_a = on_b, s->E = H;
   return 0;
-}
-
-/* The fast walk of one ray not started yet (lt_irg_glide's contract, irgrid_glide.h). */
-LT_DEVICE int lt_irg_glide(const lt_irg_view *v, lt_irg_ray *q, int flags, lt_trace_counters *c) {
-  lt_irg_glide_grid g = lt_irg_glide_grid_of(v->header);
-  lt_irg_glider s;
-  s.q = *q;
-  int r = lt_irg_glide_begin(v, &g, &s, flags);
-  while (r == 0) r = lt_irg_glide_step(v, &g, &s, flags, c);
-  *q = s.q;
-  return r > 0;
 }
 
 #endif
